@@ -1,0 +1,15 @@
+#pragma once
+/// The interference channel's mixing kernel: y = sum_n c_n x_n.
+#include <span>
+
+#include "rfsitl/common/types.hpp"
+
+namespace rfsitl::channel {
+
+/// Writes out[t] = sum_i coeffs[i] * inputs[i][t] for t in [0, out.size()).
+/// Preconditions: coeffs.size() == inputs.size(); every inputs[i] points to at
+/// least out.size() samples. With no inputs, out is zero-filled. Pure: touches
+/// nothing but `out`.
+void mix(std::span<const cf32* const> inputs, std::span<const cf32> coeffs, std::span<cf32> out);
+
+}  // namespace rfsitl::channel
