@@ -33,9 +33,7 @@ class ChannelMatrix {
   float power_gain(std::size_t tx, std::size_t rx) const { return std::norm(coefficient(tx, rx)); }
 
   /// Row of coefficients seen by receiver `rx`, indexed by transmitter.
-  std::span<const cf32> receiver_row(std::size_t rx) const {
-    return {coeff_.data() + rx * n_, n_};
-  }
+  std::span<const cf32> receiver_row(std::size_t rx) const { return {coeff_.data() + rx * n_, n_}; }
 
   /// Distance in metres, or nullopt when either position is unknown.
   std::optional<double> distance(std::size_t a, std::size_t b) const;

@@ -28,10 +28,10 @@ struct PhyConfig {
 };
 
 struct ChannelConfig {
-  std::string model = "paper";       ///< c = (1+j)/sqrt2 * (d+1)^-exponent
-  double path_loss_exponent = 3.0;   ///< applied to amplitude, as in the paper
-  double noise_variance = 1e-12;     ///< sigma^2 = E|eta|^2 (-120 dB)
-  bool shared_noise = false;         ///< the paper's one noise source for all receivers
+  std::string model = "paper";      ///< c = (1+j)/sqrt2 * (d+1)^-exponent
+  double path_loss_exponent = 3.0;  ///< applied to amplitude, as in the paper
+  double noise_variance = 1e-12;    ///< sigma^2 = E|eta|^2 (-120 dB)
+  bool shared_noise = false;        ///< the paper's one noise source for all receivers
   GeodeticPosition origin{43.0008, -78.7890, 0.0};  ///< where local x/y/z = 0
 };
 
@@ -39,10 +39,10 @@ enum class TimeMode { kRealTime, kVirtual };
 
 struct TimingConfig {
   TimeMode mode = TimeMode::kRealTime;
-  double speed = 1.0;               ///< virtual seconds per wall second (real-time mode)
-  double sample_rate_hz = 1e6;      ///< fs
+  double speed = 1.0;                 ///< virtual seconds per wall second (real-time mode)
+  double sample_rate_hz = 1e6;        ///< fs
   std::uint32_t tick_samples = 1000;  ///< B
-  double duration_s = 0.0;          ///< virtual seconds to run; 0 = until a signal
+  double duration_s = 0.0;            ///< virtual seconds to run; 0 = until a signal
 };
 
 struct PortConfig {
@@ -52,9 +52,9 @@ struct PortConfig {
 };
 
 struct EngineConfig {
-  unsigned threads = 0;              ///< worker threads; 0 = one per core
-  bool skip_idle_receivers = true;   ///< see Engine for the exact condition
-  double stats_interval_s = 5.0;     ///< wall seconds between stats lines; 0 = off
+  unsigned threads = 0;             ///< worker threads; 0 = one per core
+  bool skip_idle_receivers = true;  ///< see Engine for the exact condition
+  double stats_interval_s = 5.0;    ///< wall seconds between stats lines; 0 = off
 };
 
 /// A frame injected by the emulator itself at a virtual time (batch runs, tests).

@@ -1,0 +1,14 @@
+#pragma once
+/// Sub-commands of the `rfsitl` executable.
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace rfsitl::app {
+
+/// Registers `rfsitl run` on `parent`; the returned action runs it (exit code).
+std::function<int()> add_run_command(CLI::App& parent);
+
+/// Registers `rfsitl ping` on `parent`.
+std::function<int()> add_ping_command(CLI::App& parent);
+
+}  // namespace rfsitl::app

@@ -1,0 +1,23 @@
+/// rfsitl: software-in-the-loop RF channel emulator for UAV swarms.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "rfsitl: software-in-the-loop RF channel emulator for UAV swarms and other multi-robot "
+      "systems"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "rfsitl 0.1.0");
+  auto run = rfsitl::app::add_run_command(app);
+  auto ping = rfsitl::app::add_ping_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (app.got_subcommand("run")) return run();
+  if (app.got_subcommand("ping")) return ping();
+  return 2;
+}

@@ -1,0 +1,275 @@
+/// `rfsitl ping`: the paper's COM manager. It plays the agents of nodes A and B
+/// on their net ports: A sends S-byte packets to B one at a time, B answers each
+/// with a short acknowledgement carrying the sequence number, and A records the
+/// round-trip time.
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "commands.hpp"
+#include "rfsitl/io/net_framing.hpp"
+
+namespace rfsitl::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr std::uint8_t kPingMagic[4] = {'R', 'F', 'P', '1'};
+constexpr std::uint8_t kAckMagic[4] = {'R', 'F', 'A', '1'};
+constexpr std::size_t kMaxPayload = 65535;
+
+struct PingOptions {
+  unsigned src = 1;
+  unsigned dst = 2;
+  unsigned count = 10;
+  std::size_t size = 80;
+  double timeout_s = 1.0;
+  double interval_s = 0.0;
+  double connect_timeout_s = 10.0;
+  std::string host = "127.0.0.1";
+  std::uint16_t net_base = 15763;
+  std::string csv;
+  bool quiet = false;
+};
+
+/// A TCP connection to one net port, with the framing parser for its stream.
+class AgentLink {
+ public:
+  AgentLink(const std::string& host, std::uint16_t port, double timeout_s) : parser_(kMaxPayload) {
+    const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+    std::string last_error;
+    while (fd_ < 0) {
+      fd_ = try_connect(host, port, last_error);
+      if (fd_ >= 0) break;
+      if (Clock::now() > deadline) {
+        throw std::runtime_error("cannot connect to net port " + host + ":" + std::to_string(port) +
+                                 ": " + last_error);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    const int one = 1;
+    setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  }
+  ~AgentLink() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  AgentLink(const AgentLink&) = delete;
+  AgentLink& operator=(const AgentLink&) = delete;
+
+  int fd() const { return fd_; }
+
+  void send(const NetFrame& f) {
+    const auto bytes = io::encode_net_frame(f);
+    std::size_t off = 0;
+    while (off < bytes.size()) {
+      const ssize_t n = ::send(fd_, bytes.data() + off, bytes.size() - off, MSG_NOSIGNAL);
+      if (n <= 0) throw std::runtime_error(std::string("send failed: ") + std::strerror(errno));
+      off += static_cast<std::size_t>(n);
+    }
+  }
+
+  /// Reads what is available and returns the frames completed by it.
+  std::vector<NetFrame> receive() {
+    std::uint8_t buf[8192];
+    const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+    if (n == 0) throw std::runtime_error("the emulator closed the connection");
+    if (n < 0) throw std::runtime_error(std::string("recv failed: ") + std::strerror(errno));
+    std::vector<NetFrame> frames;
+    std::vector<io::FramingError> errors;
+    parser_.feed({buf, static_cast<std::size_t>(n)}, frames, errors);
+    return frames;
+  }
+
+ private:
+  static int try_connect(const std::string& host, std::uint16_t port, std::string& error) {
+    addrinfo hints{};
+    hints.ai_socktype = SOCK_STREAM;
+    addrinfo* res = nullptr;
+    const int rc = getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &res);
+    if (rc != 0) {
+      error = gai_strerror(rc);
+      return -1;
+    }
+    int fd = -1;
+    for (addrinfo* a = res; a != nullptr && fd < 0; a = a->ai_next) {
+      fd = ::socket(a->ai_family, a->ai_socktype, a->ai_protocol);
+      if (fd >= 0 && ::connect(fd, a->ai_addr, a->ai_addrlen) != 0) {
+        error = std::strerror(errno);
+        ::close(fd);
+        fd = -1;
+      }
+    }
+    freeaddrinfo(res);
+    return fd;
+  }
+
+  int fd_ = -1;
+  io::NetFrameParser parser_;
+};
+
+std::vector<std::uint8_t> tagged(const std::uint8_t (&magic)[4], std::uint32_t seq,
+                                 std::size_t size) {
+  std::vector<std::uint8_t> p(std::max<std::size_t>(size, 8), 0);
+  std::copy(magic, magic + 4, p.begin());
+  for (int i = 0; i < 4; ++i) p[4 + i] = static_cast<std::uint8_t>(seq >> (8 * i));
+  for (std::size_t i = 8; i < p.size(); ++i) p[i] = static_cast<std::uint8_t>(i * 7 + seq);
+  p.resize(size < 8 ? 8 : size);
+  return p;
+}
+
+std::optional<std::uint32_t> read_tag(const std::vector<std::uint8_t>& p,
+                                      const std::uint8_t (&magic)[4]) {
+  if (p.size() < 8 || !std::equal(magic, magic + 4, p.begin())) return std::nullopt;
+  std::uint32_t seq = 0;
+  for (int i = 0; i < 4; ++i) seq |= static_cast<std::uint32_t>(p[4 + i]) << (8 * i);
+  return seq;
+}
+
+/// Linear-interpolated percentile (q in [0, 1]) of sorted values.
+double percentile(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return NAN;
+  const double pos = q * static_cast<double>(sorted.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const auto hi = std::min(lo + 1, sorted.size() - 1);
+  return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
+}
+
+/// Sends one ping and serves both agents until its ack returns or time runs out.
+std::optional<double> ping_once(AgentLink& a, AgentLink& b, const PingOptions& o,
+                                std::uint32_t seq) {
+  const auto src = static_cast<NodeId>(o.src);
+  const auto dst = static_cast<NodeId>(o.dst);
+  const auto sent = Clock::now();
+  a.send(NetFrame{src, dst, tagged(kPingMagic, seq, o.size)});
+  const auto deadline = sent + std::chrono::duration<double>(o.timeout_s);
+  while (Clock::now() < deadline) {
+    pollfd fds[2] = {{a.fd(), POLLIN, 0}, {b.fd(), POLLIN, 0}};
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    if (::poll(fds, 2, static_cast<int>(std::max<long>(1, left.count()))) <= 0) continue;
+    if (fds[1].revents != 0) {
+      for (const NetFrame& f : b.receive()) {
+        // B's agent answers every ping it hears, late ones included.
+        if (const auto s = read_tag(f.payload, kPingMagic); s && f.src == src) {
+          b.send(NetFrame{dst, src, tagged(kAckMagic, *s, 8)});
+        }
+      }
+    }
+    if (fds[0].revents != 0) {
+      for (const NetFrame& f : a.receive()) {
+        if (const auto s = read_tag(f.payload, kAckMagic); s && *s == seq && f.src == dst) {
+          return std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
+        }
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+int run_ping(const PingOptions& o) {
+  if (o.src == o.dst) {
+    std::fprintf(stderr, "rfsitl ping: --src and --dst must differ\n");
+    return 2;
+  }
+  std::vector<std::optional<double>> rtts;
+  try {
+    AgentLink a(o.host, static_cast<std::uint16_t>(o.net_base + 10 * o.src), o.connect_timeout_s);
+    AgentLink b(o.host, static_cast<std::uint16_t>(o.net_base + 10 * o.dst), o.connect_timeout_s);
+    for (std::uint32_t seq = 0; seq < o.count; ++seq) {
+      const auto rtt = ping_once(a, b, o, seq);
+      rtts.push_back(rtt);
+      if (!o.quiet) {
+        if (rtt) {
+          std::printf("%zu bytes %u -> %u seq=%u rtt=%.3f ms\n", o.size, o.src, o.dst, seq, *rtt);
+        } else {
+          std::printf("%zu bytes %u -> %u seq=%u lost (no ack within %.3f s)\n", o.size, o.src,
+                      o.dst, seq, o.timeout_s);
+        }
+        std::fflush(stdout);
+      }
+      if (o.interval_s > 0) {
+        std::this_thread::sleep_for(std::chrono::duration<double>(o.interval_s));
+      }
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rfsitl ping: %s\n", e.what());
+    return 1;
+  }
+  if (!o.csv.empty()) {
+    std::ofstream csv(o.csv);
+    csv << "seq,rtt_ms,status\n";
+    for (std::size_t i = 0; i < rtts.size(); ++i) {
+      csv << i << "," << (rtts[i] ? std::to_string(*rtts[i]) : "") << ","
+          << (rtts[i] ? "ok" : "lost") << "\n";
+    }
+    if (!csv) std::fprintf(stderr, "rfsitl ping: cannot write %s\n", o.csv.c_str());
+  }
+  std::vector<double> ok;
+  for (const auto& r : rtts) {
+    if (r) ok.push_back(*r);
+  }
+  std::sort(ok.begin(), ok.end());
+  double mean = NAN;
+  if (!ok.empty()) {
+    mean = 0;
+    for (double v : ok) mean += v;
+    mean /= static_cast<double>(ok.size());
+  }
+  std::printf("rtt_ms mean=%.3f p10=%.3f p50=%.3f p90=%.3f lost=%zu/%u\n", mean,
+              percentile(ok, 0.1), percentile(ok, 0.5), percentile(ok, 0.9),
+              rtts.size() - ok.size(), o.count);
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> add_ping_command(CLI::App& parent) {
+  auto opts = std::make_shared<PingOptions>();
+  CLI::App* cmd = parent.add_subcommand(
+      "ping", "Measure round-trip times between two nodes, acting as both of their agents");
+  cmd->add_option("--src", opts->src, "Node A (sends the packets)")
+      ->required()
+      ->check(CLI::Range(1, 250));
+  cmd->add_option("--dst", opts->dst, "Node B (answers with acknowledgements)")
+      ->required()
+      ->check(CLI::Range(1, 250));
+  cmd->add_option("--count", opts->count, "Packets to send")
+      ->check(CLI::Range(1U, 1000000U))
+      ->capture_default_str();
+  cmd->add_option("--size", opts->size, "Payload bytes per packet (>= 8)")
+      ->check(CLI::Range(std::size_t{8}, kMaxPayload))
+      ->capture_default_str();
+  cmd->add_option("--timeout", opts->timeout_s, "Seconds to wait for each acknowledgement")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--interval", opts->interval_s, "Pause between packets in seconds")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--connect-timeout", opts->connect_timeout_s,
+                  "Seconds to keep retrying the connection to the emulator")
+      ->capture_default_str();
+  cmd->add_option("--host", opts->host, "Emulator address")->capture_default_str();
+  cmd->add_option("--net-base", opts->net_base, "Net port base of the emulator")
+      ->capture_default_str();
+  cmd->add_option("--csv", opts->csv, "Write every packet's RTT to this CSV file");
+  cmd->add_flag("--quiet,-q", opts->quiet, "Print only the summary line");
+  return [opts] { return run_ping(*opts); };
+}
+
+}  // namespace rfsitl::app

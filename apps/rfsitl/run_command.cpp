@@ -1,0 +1,292 @@
+/// `rfsitl run`: load a scenario, open the ports, run the engine until a signal
+/// or the scenario's duration, then print the per-node summary.
+#include <pthread.h>
+#include <signal.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "rfsitl/engine/engine.hpp"
+#include "rfsitl/io/node_servers.hpp"
+#include "rfsitl/scenario/default_formation.hpp"
+#include "rfsitl/scenario/scenario_loader.hpp"
+
+namespace rfsitl::app {
+namespace {
+
+struct RunOptions {
+  std::string scenario_path;
+  std::optional<std::size_t> nodes;
+  std::optional<std::uint16_t> net_base;
+  std::optional<std::uint16_t> loc_base;
+  std::optional<std::string> bind;
+  std::optional<std::string> mode;
+  std::optional<double> speed;
+  std::optional<double> duration_s;
+  std::optional<double> sample_rate_hz;
+  std::optional<std::uint32_t> tick_samples;
+  std::optional<std::uint64_t> seed;
+  std::optional<unsigned> threads;
+  std::optional<double> noise_db;
+  std::optional<double> stats_interval_s;
+  bool no_skip = false;
+  bool shared_noise = false;
+  std::string summary_json;
+};
+
+scenario::Scenario build_scenario(const RunOptions& o) {
+  scenario::Scenario s;
+  if (!o.scenario_path.empty()) s = scenario::load_scenario_file(o.scenario_path);
+  if (o.net_base) s.ports.net_base = *o.net_base;
+  if (o.loc_base) s.ports.loc_base = *o.loc_base;
+  if (o.bind) s.ports.bind_address = *o.bind;
+  if (o.mode) {
+    s.timing.mode =
+        *o.mode == "virtual" ? scenario::TimeMode::kVirtual : scenario::TimeMode::kRealTime;
+  }
+  if (o.speed) s.timing.speed = *o.speed;
+  if (o.duration_s) s.timing.duration_s = *o.duration_s;
+  if (o.sample_rate_hz) s.timing.sample_rate_hz = *o.sample_rate_hz;
+  if (o.tick_samples) s.timing.tick_samples = *o.tick_samples;
+  if (o.seed) s.seed = *o.seed;
+  if (o.threads) s.engine.threads = *o.threads;
+  if (o.noise_db) s.channel.noise_variance = std::pow(10.0, *o.noise_db / 10.0);
+  if (o.stats_interval_s) s.engine.stats_interval_s = *o.stats_interval_s;
+  if (o.no_skip) s.engine.skip_idle_receivers = false;
+  if (o.shared_noise) s.channel.shared_noise = true;
+  if (o.nodes || s.nodes.empty()) {
+    s.nodes = scenario::default_formation(o.nodes.value_or(6), s.channel);
+    s.traffic.clear();  // it named the file's nodes
+    if (o.scenario_path.empty()) s.name = "default-formation";
+  }
+  scenario::validate_scenario(s);
+  return s;
+}
+
+std::string format_position(const std::optional<Position>& p) {
+  if (!p) return "unknown until its location feed reports";
+  char buf[96];
+  if (const auto* g = std::get_if<GeodeticPosition>(&*p)) {
+    std::snprintf(buf, sizeof buf, "lat %.6f lon %.6f alt %.1f m", g->lat_deg, g->lon_deg,
+                  g->alt_m);
+  } else {
+    const auto& l = std::get<LocalPosition>(*p);
+    std::snprintf(buf, sizeof buf, "x %.1f y %.1f z %.1f m", l.x_m, l.y_m, l.z_m);
+  }
+  return buf;
+}
+
+void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
+  const double tick_ms = 1e3 * s.timing.tick_samples / s.timing.sample_rate_hz;
+  std::printf(
+      "rfsitl: scenario '%s': %zu nodes, %s k=%u BT=%.2f, fs %.0f Hz, tick %u samples "
+      "(%.3f ms), %s x%.2f, noise %.1f dB, seed %llu\n",
+      s.name.c_str(), s.nodes.size(), s.phy.type.c_str(), s.phy.samples_per_symbol,
+      static_cast<double>(s.phy.bandwidth_time), s.timing.sample_rate_hz, s.timing.tick_samples,
+      tick_ms, s.timing.mode == scenario::TimeMode::kRealTime ? "real time" : "virtual time",
+      s.timing.speed, 10.0 * std::log10(s.channel.noise_variance),
+      static_cast<unsigned long long>(s.seed));
+  for (const auto& n : s.nodes) {
+    std::printf("  node %3u: net %s:%u  location %s:%u  start %s\n", n.id, sc.bind_address.c_str(),
+                io::NodeServers::net_port(sc, n.id), sc.bind_address.c_str(),
+                io::NodeServers::loc_port(sc, n.id), format_position(n.initial_position).c_str());
+  }
+}
+
+void print_stats_line(engine::Engine& e) {
+  const engine::EngineStatus st = e.status();
+  engine::NodeCountersSnapshot total;
+  for (std::size_t i = 0; i < e.num_nodes(); ++i) {
+    const auto c = e.counters(i).snapshot();
+    total.handed_in += c.handed_in;
+    total.delivered += c.delivered;
+    total.queue_dropped += c.queue_dropped;
+    for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) total.lost[r] += c.lost[r];
+  }
+  std::printf(
+      "[stats] virtual %.1f s, wall %.1f s, lag %.2f ms (max %.2f ms), frames in %llu, "
+      "delivered %llu, lost %llu, queue-dropped %llu, pending %llu\n",
+      st.virtual_s, st.wall_s, 1e3 * st.lag_s, 1e3 * st.max_lag_s,
+      static_cast<unsigned long long>(total.handed_in),
+      static_cast<unsigned long long>(total.delivered),
+      static_cast<unsigned long long>(total.lost_total()),
+      static_cast<unsigned long long>(total.queue_dropped),
+      static_cast<unsigned long long>(total.pending()));
+  std::fflush(stdout);
+}
+
+nlohmann::json summary_json(const scenario::Scenario& s, engine::Engine& e) {
+  const engine::EngineStatus st = e.status();
+  nlohmann::json j;
+  j["scenario"] = s.name;
+  j["virtual_s"] = st.virtual_s;
+  j["wall_s"] = st.wall_s;
+  j["max_lag_s"] = st.max_lag_s;
+  j["late_ticks"] = st.late_ticks;
+  j["late_decodes"] = st.late_decodes;
+  j["receiver_ticks_run"] = st.receiver_ticks_run;
+  j["receiver_ticks_skipped"] = st.receiver_ticks_skipped;
+  for (std::size_t i = 0; i < e.num_nodes(); ++i) {
+    const auto c = e.counters(i).snapshot();
+    nlohmann::json n;
+    n["id"] = e.node_ids()[i];
+    n["handed_in"] = c.handed_in;
+    n["queue_dropped"] = c.queue_dropped;
+    n["transmitted"] = c.transmitted;
+    n["delivered"] = c.delivered;
+    for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) {
+      n["lost"][std::string(engine::loss_reason_name(static_cast<engine::LossReason>(r)))] =
+          c.lost[r];
+    }
+    n["pending"] = c.pending();
+    n["received"] = c.received;
+    n["rx_crc_failures"] = c.rx_crc_failures;
+    n["framing_errors"] = c.framing_errors;
+    n["to_agent_dropped"] = c.to_agent_dropped;
+    n["location_updates"] = c.location_updates;
+    n["location_errors"] = c.location_errors;
+    j["nodes"].push_back(n);
+  }
+  return j;
+}
+
+void print_summary(engine::Engine& e) {
+  const engine::EngineStatus st = e.status();
+  std::printf(
+      "\nrfsitl summary: virtual %.3f s in %.3f s wall, worst real-time lag %.2f ms, "
+      "late ticks %llu\n",
+      st.virtual_s, st.wall_s, 1e3 * st.max_lag_s, static_cast<unsigned long long>(st.late_ticks));
+  std::printf("%5s %8s %8s %9s %8s %8s %8s %8s %8s %8s %8s %8s %8s %7s %7s\n", "node", "in", "tx",
+              "delivered", "lost:sen", "lost:col", "lost:hd", "lost:dec", "lost:dst", "q-drop",
+              "pending", "received", "crc-fail", "loc-ok", "loc-bad");
+  for (std::size_t i = 0; i < e.num_nodes(); ++i) {
+    const auto c = e.counters(i).snapshot();
+    const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
+    std::printf(
+        "%5u %8llu %8llu %9llu %8llu %8llu %8llu %8llu %8llu %8llu %8llu %8llu %8llu "
+        "%7llu %7llu\n",
+        e.node_ids()[i], u(c.handed_in), u(c.transmitted), u(c.delivered), u(c.lost[0]),
+        u(c.lost[1]), u(c.lost[2]), u(c.lost[3]), u(c.lost[4]), u(c.queue_dropped), u(c.pending()),
+        u(c.received), u(c.rx_crc_failures), u(c.location_updates), u(c.location_errors));
+  }
+  std::fflush(stdout);
+}
+
+int run(const RunOptions& o) {
+  scenario::Scenario s;
+  try {
+    s = build_scenario(o);
+  } catch (const scenario::ScenarioError& e) {
+    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    return 2;
+  }
+  // Signals are taken synchronously by this thread only; block them before any
+  // other thread exists so that every thread inherits the mask.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  const io::ServerConfig sc{s.ports.bind_address, s.ports.net_base, s.ports.loc_base,
+                            s.channel.origin};
+  auto servers = io::make_node_servers(sc);
+  std::unique_ptr<engine::Engine> engine;
+  try {
+    engine = engine::make_engine(s, *servers);
+    servers->start(*engine);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    return 2;
+  }
+  print_banner(s, sc);
+  std::printf("rfsitl: ready, listening on %zu net ports and %zu location ports (Ctrl-C to stop)\n",
+              s.nodes.size(), s.nodes.size());
+  std::fflush(stdout);
+
+  std::atomic<bool> stop{false};
+  std::atomic<bool> finished{false};
+  std::thread engine_thread([&] {
+    engine->run(stop);
+    finished.store(true);
+  });
+
+  const double stats_every = s.engine.stats_interval_s;
+  double next_stats = stats_every;
+  const timespec poll{0, 50'000'000};
+  while (!finished.load()) {
+    const int sig = sigtimedwait(&signals, nullptr, &poll);
+    if (sig == SIGINT || sig == SIGTERM) {
+      std::printf("\nrfsitl: %s received, shutting down\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
+      break;
+    }
+    if (stats_every > 0 && engine->status().wall_s >= next_stats) {
+      print_stats_line(*engine);
+      next_stats += stats_every;
+    }
+  }
+  stop.store(true);
+  engine_thread.join();
+  servers->stop();
+  print_summary(*engine);
+  if (!o.summary_json.empty()) {
+    std::ofstream out(o.summary_json);
+    out << summary_json(s, *engine).dump(2) << "\n";
+    if (!out) {
+      std::fprintf(stderr, "rfsitl run: cannot write %s\n", o.summary_json.c_str());
+      return 1;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::function<int()> add_run_command(CLI::App& parent) {
+  auto opts = std::make_shared<RunOptions>();
+  CLI::App* cmd =
+      parent.add_subcommand("run", "Run the emulator: one net port and one location port per node");
+  cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--nodes", opts->nodes, "Number of nodes in the default formation (1..250)")
+      ->check(CLI::Range(1, 250));
+  cmd->add_option("--net-base", opts->net_base, "Net port base: node n listens on base + 10 n");
+  cmd->add_option("--loc-base", opts->loc_base, "Location port base: base + 10 n");
+  cmd->add_option("--bind", opts->bind, "Address to listen on (default 127.0.0.1)");
+  cmd->add_option("--mode", opts->mode, "realtime or virtual")
+      ->check(CLI::IsMember({"realtime", "virtual"}));
+  cmd->add_option("--speed", opts->speed, "Real-time speed factor (virtual s per wall s)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--duration", opts->duration_s, "Virtual seconds to run (0: until Ctrl-C)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--sample-rate", opts->sample_rate_hz, "Sample rate fs in Hz")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--tick", opts->tick_samples, "Samples per lock-step tick (B)")
+      ->check(CLI::Range(1U, 1U << 20));
+  cmd->add_option("--seed", opts->seed, "Seed of the noise sources");
+  cmd->add_option("--threads", opts->threads, "Worker threads (0: one per core)");
+  cmd->add_option("--noise-db", opts->noise_db, "Noise power 10 log10(sigma^2) in dB");
+  cmd->add_option("--stats-interval", opts->stats_interval_s,
+                  "Seconds between stats lines (0: off)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--no-skip", opts->no_skip, "Run every receiver every tick (no silence skipping)");
+  cmd->add_flag("--shared-noise", opts->shared_noise,
+                "One noise source for all receivers (the paper's setup)");
+  cmd->add_option("--summary-json", opts->summary_json,
+                  "Write the final counters as JSON to this file");
+  return [opts] { return run(*opts); };
+}
+
+}  // namespace rfsitl::app

@@ -1,0 +1,73 @@
+#pragma once
+/// The lock-step emulator: every tick each transceiver produces B samples, the
+/// channel mixes them into every receiver's input, and every receiver consumes
+/// them. Transceivers of different nodes run in parallel on worker threads.
+#include <atomic>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "rfsitl/common/net_frame.hpp"
+#include "rfsitl/common/position.hpp"
+#include "rfsitl/engine/node_counters.hpp"
+#include "rfsitl/scenario/scenario.hpp"
+
+namespace rfsitl::engine {
+
+/// Where decoded frames go (the net ports). Called on the engine thread, in node
+/// order; an implementation must return quickly (hand off, never block).
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  virtual void deliver(std::size_t node, NetFrame&& frame) = 0;
+};
+
+/// Progress of the run, readable from any thread.
+struct EngineStatus {
+  SampleTime virtual_samples = 0;  ///< samples emulated per node so far
+  double virtual_s = 0.0;
+  double wall_s = 0.0;
+  double lag_s = 0.0;                    ///< real time: how late the latest tick started
+  double max_lag_s = 0.0;                ///< real time: worst lag so far
+  std::uint64_t late_ticks = 0;          ///< real time: ticks started more than a tick late
+  std::uint64_t late_decodes = 0;        ///< decodes after their verdict was due (not delivered)
+  std::uint64_t receiver_ticks_run = 0;  ///< receiver-ticks processed
+  std::uint64_t receiver_ticks_skipped = 0;  ///< receiver-ticks skipped as silent
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+
+  std::size_t num_nodes() const { return node_ids().size(); }
+  /// Node ids in index order.
+  virtual const std::vector<NodeId>& node_ids() const = 0;
+  virtual std::optional<std::size_t> index_of(NodeId id) const = 0;
+
+  /// Hands a frame from node `node`'s agent to its TX queue; false (and counted
+  /// as queue_dropped) when the queue is full. Oversized payloads must have been
+  /// refused by the caller. Thread-safe for ONE producer thread (the I/O thread).
+  virtual bool submit(std::size_t node, NetFrame&& frame) = 0;
+
+  /// Largest payload a frame may carry.
+  virtual std::size_t max_payload() const = 0;
+
+  /// Moves node `node` (nullopt: position unknown, no links). Thread-safe; takes
+  /// effect at the next tick.
+  virtual void set_position(std::size_t node, std::optional<Ecef> position) = 0;
+
+  /// Runs ticks on the calling thread until `stop` is set or the scenario's
+  /// duration has been emulated. Call once.
+  virtual void run(const std::atomic<bool>& stop) = 0;
+
+  /// Thread-safe views of the accounting and progress.
+  virtual NodeCounters& counters(std::size_t node) = 0;
+  virtual EngineStatus status() const = 0;
+};
+
+/// Builds the engine for a validated scenario. Throws std::invalid_argument on
+/// settings the PHY rejects.
+std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink);
+
+}  // namespace rfsitl::engine

@@ -1,0 +1,73 @@
+#pragma once
+/// Follows every frame from the moment it goes on the air to its outcome, and
+/// names the reason of each loss. The ledger only explains outcomes: whether a
+/// frame arrives is decided by the real receiver, never here.
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "rfsitl/channel/channel_matrix.hpp"
+#include "rfsitl/common/types.hpp"
+#include "rfsitl/engine/node_counters.hpp"
+
+namespace rfsitl::engine {
+
+struct LedgerConfig {
+  double noise_variance = 0.0;      ///< sigma^2 at every receiver
+  double sensitivity_snr_db = 0.0;  ///< PHY sensitivity, for naming losses only
+  SampleTime grace_samples = 0;     ///< receiver latency allowed after a frame ends
+};
+
+/// Engine-thread only (not thread-safe). Node indices are 0..N-1.
+class FrameLedger {
+ public:
+  /// `index_of_id(id)` maps a node id to its index, or nullopt if no such node.
+  FrameLedger(LedgerConfig config, std::span<NodeCounters> counters,
+              std::function<std::optional<std::size_t>(NodeId)> index_of_id);
+
+  /// A frame with `serial` from node index `tx` to node id `dst` occupies the air
+  /// during [start, end).
+  void on_transmit(std::uint32_t serial, std::size_t tx, NodeId dst, SampleTime start,
+                   SampleTime end);
+
+  /// Receiver `rx` decoded the frame `serial` with a valid CRC. Returns true if the
+  /// frame is addressed to rx (unicast to it, or broadcast): hand it to its agent.
+  bool on_decoded(std::uint32_t serial, std::size_t rx);
+
+  /// Resolves every frame whose receivers' verdict is due by `now` (end + grace),
+  /// naming the loss reason from `channel` and the overlap history; forgets
+  /// records no longer needed for overlap checks.
+  void settle(SampleTime now, const channel::ChannelMatrix& channel);
+
+  /// Frames on the air or awaiting a verdict.
+  std::size_t in_flight() const;
+
+  /// Valid decodes that came after their frame had been settled as lost.
+  std::uint64_t late_decodes() const { return late_decodes_; }
+
+ private:
+  struct Record {
+    std::uint32_t serial;
+    std::size_t tx;
+    NodeId dst;
+    SampleTime start;
+    SampleTime end;
+    std::uint32_t decodes = 0;  // receivers addressed by this frame that decoded it
+    bool settled = false;
+  };
+
+  LossReason loss_reason(const Record& r, std::size_t rx,
+                         const channel::ChannelMatrix& channel) const;
+  void settle_record(Record& r, const channel::ChannelMatrix& channel);
+
+  LedgerConfig config_;
+  std::span<NodeCounters> counters_;
+  std::function<std::optional<std::size_t>(NodeId)> index_of_id_;
+  std::vector<Record> records_;  // in start order
+  SampleTime longest_frame_ = 0;
+  std::uint64_t late_decodes_ = 0;
+};
+
+}  // namespace rfsitl::engine

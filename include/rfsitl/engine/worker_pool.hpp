@@ -1,0 +1,38 @@
+#pragma once
+/// Fixed threads that run one phase of a tick in parallel and meet at a
+/// barrier. The calling thread takes part as worker 0, so a pool of one has no
+/// extra thread. Waiting spins briefly, then sleeps on an atomic (ticks are
+/// ~1 ms apart: a futex wake costs far less than a missed tick).
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <thread>
+#include <vector>
+
+namespace rfsitl::engine {
+
+class WorkerPool {
+ public:
+  /// Precondition: workers >= 1.
+  explicit WorkerPool(std::size_t workers);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  std::size_t size() const { return threads_.size() + 1; }
+
+  /// Runs task(worker) for worker = 0..size()-1 concurrently; returns when all
+  /// have finished. Not reentrant. The task must not throw.
+  void run(const std::function<void(std::size_t)>& task);
+
+ private:
+  void worker_loop(std::size_t index);
+
+  std::vector<std::thread> threads_;
+  const std::function<void(std::size_t)>* task_ = nullptr;
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<std::size_t> remaining_{0};
+  std::atomic<bool> stop_{false};
+};
+
+}  // namespace rfsitl::engine

@@ -1,0 +1,405 @@
+#include "rfsitl/engine/engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "rfsitl/channel/channel_matrix.hpp"
+#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/channel/link_model.hpp"
+#include "rfsitl/channel/mixer.hpp"
+#include "rfsitl/channel/noise_source.hpp"
+#include "rfsitl/common/spsc_ring.hpp"
+#include "rfsitl/engine/frame_ledger.hpp"
+#include "rfsitl/engine/tick_clock.hpp"
+#include "rfsitl/engine/worker_pool.hpp"
+#include "rfsitl/phy/phy_registry.hpp"
+
+namespace rfsitl::engine {
+namespace {
+
+/// Receiver front-end gain reference: the receiver scales its input so that the
+/// thermal noise floor has unit power, as a radio's fixed gain stage puts the
+/// noise floor well above its ADC's quantization. It matters because liquid's
+/// detectors have an absolute floor near -100 dBFS, while the paper's path loss
+/// puts signals far below that. Without noise, the gain is that of a -120 dB floor.
+double front_end_gain(double noise_variance) {
+  return 1.0 / std::sqrt(noise_variance > 0.0 ? noise_variance : 1e-12);
+}
+
+std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t stream) {
+  // splitmix64 finalizer: independent, reproducible streams per receiver.
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (stream + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+/// One decode reported by a receiver during the RX phase, handled afterwards.
+struct Decoded {
+  phy::FrameTag tag;
+  std::vector<std::uint8_t> payload;
+  bool payload_valid;
+};
+
+struct Node : phy::RxHandler {
+  NodeId id = 0;
+  std::unique_ptr<phy::Transceiver> radio;
+  std::unique_ptr<SpscRing<NetFrame>> queue;  // from the I/O thread
+  std::deque<NetFrame> injected;              // scenario traffic, engine thread only
+  std::vector<cf32> tx;                       // this tick's TX samples
+  std::vector<cf32> rx;                       // this tick's RX samples
+  bool active = false;                        // tx carries signal this tick
+  std::size_t tx_samples = 0;                 // leading samples of tx that carry signal
+  bool receiver_blanked = false;              // T/R switch on transmit since last tick
+  std::uint32_t frames_started = 0;
+  // Set by the TX phase when a frame starts this tick; consumed serially.
+  std::optional<std::pair<std::uint32_t, NetFrame>> started;
+  std::size_t started_len = 0;
+  std::optional<channel::NoiseSource> noise;
+  std::vector<const cf32*> mix_inputs;
+  std::vector<cf32> mix_coeffs;
+  std::vector<Decoded> decoded;
+  bool skipped = false;
+
+  void on_rx(const phy::RxEvent& ev) override {
+    if (!ev.header_valid) return;
+    decoded.push_back(Decoded{ev.tag, {ev.payload.begin(), ev.payload.end()}, ev.payload_valid});
+  }
+};
+
+class LockStepEngine final : public Engine {
+ public:
+  LockStepEngine(const scenario::Scenario& s, FrameSink& sink)
+      : scenario_(s),
+        sink_(sink),
+        block_(s.timing.tick_samples),
+        gain_(front_end_gain(s.channel.noise_variance)),
+        channel_(s.nodes.size(), channel::make_paper_link_model(s.channel.path_loss_exponent)),
+        counters_(s.nodes.size()),
+        clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
+               s.timing.mode == scenario::TimeMode::kRealTime),
+        pool_(worker_count(s)) {
+    const std::size_t n = s.nodes.size();
+    nodes_.resize(n);
+    pending_positions_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      Node& node = nodes_[i];
+      node.id = s.nodes[i].id;
+      ids_.push_back(node.id);
+      node.radio = phy::make_transceiver(s.phy);
+      node.queue = std::make_unique<SpscRing<NetFrame>>(s.phy.tx_queue_frames);
+      node.tx.assign(block_, cf32{});
+      node.rx.assign(block_, cf32{});
+      node.mix_inputs.reserve(n);
+      node.mix_coeffs.reserve(n);
+      node.decoded.reserve(8);
+      if (!s.channel.shared_noise && s.channel.noise_variance > 0.0) {
+        node.noise.emplace(mix_seed(s.seed, i), unit_noise_variance());
+      }
+      if (s.nodes[i].initial_position) {
+        channel_.set_position(i, channel::to_ecef(*s.nodes[i].initial_position, s.channel.origin));
+      }
+    }
+    if (s.channel.shared_noise && s.channel.noise_variance > 0.0) {
+      shared_noise_.emplace(mix_seed(s.seed, n), unit_noise_variance());
+      shared_noise_buf_.assign(block_, cf32{});
+    }
+    const phy::Transceiver& radio = *nodes_.front().radio;
+    ledger_.emplace(LedgerConfig{s.channel.noise_variance, radio.sensitivity_snr_db(),
+                                 static_cast<SampleTime>(2 * radio.rx_latency_samples() + block_)},
+                    counters_, [this](NodeId id) { return index_of(id); });
+    schedule_traffic();
+  }
+
+  const std::vector<NodeId>& node_ids() const override { return ids_; }
+
+  std::optional<std::size_t> index_of(NodeId id) const override {
+    const auto it = std::find(ids_.begin(), ids_.end(), id);
+    if (it == ids_.end()) return std::nullopt;
+    return static_cast<std::size_t>(it - ids_.begin());
+  }
+
+  std::size_t max_payload() const override { return nodes_.front().radio->max_payload(); }
+
+  bool submit(std::size_t node, NetFrame&& frame) override {
+    NodeCounters& c = counters_[node];
+    NodeCounters::bump(c.handed_in);
+    if (!nodes_[node].queue->try_push(frame)) {
+      NodeCounters::bump(c.queue_dropped);
+      return false;
+    }
+    return true;
+  }
+
+  void set_position(std::size_t node, std::optional<Ecef> position) override {
+    std::lock_guard lock(positions_mutex_);
+    pending_positions_[node].emplace(position);
+    positions_dirty_.store(true, std::memory_order_release);
+  }
+
+  NodeCounters& counters(std::size_t node) override { return counters_[node]; }
+
+  EngineStatus status() const override {
+    std::lock_guard lock(status_mutex_);
+    return status_;
+  }
+
+  void run(const std::atomic<bool>& stop) override {
+    const auto duration =
+        static_cast<SampleTime>(scenario_.timing.duration_s * scenario_.timing.sample_rate_hz);
+    for (std::uint64_t k = 0; !stop.load(std::memory_order_relaxed); ++k) {
+      if (duration > 0 && now_ >= duration) break;
+      clock_.wait_for_tick(k);
+      run_tick();
+      publish_status();
+    }
+    publish_status();
+  }
+
+ private:
+  static std::size_t worker_count(const scenario::Scenario& s) {
+    const std::size_t wanted = s.engine.threads != 0
+                                   ? s.engine.threads
+                                   : std::max(1U, std::thread::hardware_concurrency());
+    return std::clamp<std::size_t>(wanted, 1, s.nodes.size());
+  }
+
+  float unit_noise_variance() const {
+    return static_cast<float>(scenario_.channel.noise_variance * gain_ * gain_);
+  }
+
+  void schedule_traffic() {
+    for (const auto& item : scenario_.traffic) {
+      for (unsigned r = 0; r < item.repeat; ++r) {
+        const double at = item.at_s + r * item.interval_s;
+        traffic_.push_back(
+            {static_cast<SampleTime>(std::llround(at * scenario_.timing.sample_rate_hz)), item.src,
+             item.dst, item.size_bytes, r});
+      }
+    }
+    std::stable_sort(traffic_.begin(), traffic_.end(),
+                     [](const auto& a, const auto& b) { return a.at < b.at; });
+  }
+
+  /// Scenario traffic due before the end of this tick enters its node's queue.
+  void inject_traffic() {
+    const SampleTime tick_end = now_ + block_;
+    while (next_traffic_ < traffic_.size() && traffic_[next_traffic_].at < tick_end) {
+      const auto& t = traffic_[next_traffic_++];
+      const auto node = index_of(t.src);
+      if (!node) continue;  // validated scenarios name only known sources
+      NetFrame frame{t.src, t.dst, std::vector<std::uint8_t>(t.size, 0)};
+      for (std::size_t b = 0; b < t.size; ++b) {
+        frame.payload[b] = static_cast<std::uint8_t>((t.repeat_index + b) & 0xFF);
+      }
+      NodeCounters::bump(counters_[*node].handed_in);
+      nodes_[*node].injected.push_back(std::move(frame));
+    }
+  }
+
+  void apply_positions() {
+    if (!positions_dirty_.exchange(false, std::memory_order_acq_rel)) return;
+    std::lock_guard lock(positions_mutex_);
+    for (std::size_t i = 0; i < pending_positions_.size(); ++i) {
+      if (pending_positions_[i]) {
+        channel_.set_position(i, *pending_positions_[i]);
+        pending_positions_[i].reset();
+      }
+    }
+  }
+
+  void run_tick() {
+    apply_positions();
+    inject_traffic();
+    pool_.run([this](std::size_t w) { for_my_nodes(w, [this](std::size_t i) { tx_phase(i); }); });
+    record_transmissions();
+    if (shared_noise_ && any_receiver_runs()) shared_noise_->fill(shared_noise_buf_);
+    pool_.run([this](std::size_t w) { for_my_nodes(w, [this](std::size_t i) { rx_phase(i); }); });
+    handle_decodes();
+    now_ += block_;
+    ledger_->settle(now_, channel_);
+  }
+
+  template <typename F>
+  void for_my_nodes(std::size_t worker, F&& f) {
+    for (std::size_t i = worker; i < nodes_.size(); i += pool_.size()) f(i);
+  }
+
+  /// Per node, in parallel: start a queued frame if idle, produce B samples.
+  void tx_phase(std::size_t i) {
+    Node& node = nodes_[i];
+    if (!node.radio->tx_busy()) {
+      std::optional<NetFrame> next;
+      if (!node.injected.empty()) {
+        next = std::move(node.injected.front());
+        node.injected.pop_front();
+      } else {
+        next = node.queue->try_pop();
+      }
+      if (next) {
+        const std::uint32_t serial =
+            (static_cast<std::uint32_t>(i) << 24) | (node.frames_started++ & 0xFFFFFFU);
+        node.started_len =
+            node.radio->start_frame(phy::FrameTag{next->src, next->dst, serial}, next->payload);
+        node.started.emplace(serial, std::move(*next));
+      }
+    }
+    node.tx_samples = node.radio->transmit(node.tx);
+    node.active = node.tx_samples > 0;
+  }
+
+  void record_transmissions() {
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      Node& node = nodes_[i];
+      if (!node.started) continue;
+      const auto& [serial, frame] = *node.started;
+      ledger_->on_transmit(serial, i, frame.dst, now_,
+                           now_ + static_cast<SampleTime>(node.started_len));
+      node.started.reset();
+    }
+  }
+
+  /// Half-duplex, the T/R switch: y_m contains c_mm x_m exactly as in the paper,
+  /// but a real receiver front end is switched off (or saturated) while its own
+  /// radio transmits, and liquid's detectors would need milliseconds to recover
+  /// from a self-signal 100+ dB above the noise floor. So the receiver of a
+  /// transmitting node does not run during the samples it transmits, and it
+  /// restarts (reset_receiver) at the first sample after its transmission. Any
+  /// frame that overlaps the node's own transmission is therefore lost.
+  std::size_t first_receive_sample(const Node& node) const { return node.tx_samples; }
+
+  /// Skipping silence, exact condition: receiver m runs in a tick iff some sample
+  /// is left after its own transmission and (it is inside a frame, or it has just
+  /// finished transmitting, or some other active transmitter n reaches it with
+  /// c_nm != 0). Otherwise its input is pure noise, from which it cannot decode
+  /// anything. skip_idle_receivers = false runs every receiver every tick.
+  bool receiver_must_run(std::size_t m) const {
+    const Node& node = nodes_[m];
+    if (first_receive_sample(node) >= block_) return false;  // blanked the whole tick
+    if (!scenario_.engine.skip_idle_receivers) return true;
+    if (node.receiver_blanked || node.radio->rx_busy()) return true;
+    for (std::size_t n = 0; n < nodes_.size(); ++n) {
+      if (n != m && nodes_[n].active && channel_.coefficient(n, m) != cf32{}) return true;
+    }
+    return false;
+  }
+
+  bool any_receiver_runs() const {
+    for (std::size_t m = 0; m < nodes_.size(); ++m) {
+      if (receiver_must_run(m)) return true;
+    }
+    return false;
+  }
+
+  /// Per receiver, in parallel: y_m = g (sum_{n != m} c_nm x_n + eta_m) over the
+  /// samples after its own transmission, then decode.
+  void rx_phase(std::size_t m) {
+    Node& node = nodes_[m];
+    node.skipped = !receiver_must_run(m);
+    if (node.tx_samples > 0) node.receiver_blanked = true;
+    if (node.skipped) return;
+    if (node.receiver_blanked) {
+      node.radio->reset_receiver();
+      node.receiver_blanked = false;
+    }
+    const std::size_t first = first_receive_sample(node);
+    const std::size_t len = block_ - first;
+    node.mix_inputs.clear();
+    node.mix_coeffs.clear();
+    const auto row = channel_.receiver_row(m);
+    const float g = static_cast<float>(gain_);
+    for (std::size_t n = 0; n < nodes_.size(); ++n) {
+      if (n != m && nodes_[n].active && row[n] != cf32{}) {
+        node.mix_inputs.push_back(nodes_[n].tx.data() + first);
+        node.mix_coeffs.push_back(row[n] * g);
+      }
+    }
+    const std::span<cf32> y(node.rx.data(), len);
+    channel::mix(node.mix_inputs, node.mix_coeffs, y);
+    if (node.noise) {
+      node.noise->add_to(y);
+    } else if (shared_noise_) {
+      for (std::size_t t = 0; t < len; ++t) y[t] += shared_noise_buf_[first + t];
+    }
+    node.radio->receive(y, node);
+  }
+
+  void handle_decodes() {
+    for (std::size_t m = 0; m < nodes_.size(); ++m) {
+      Node& node = nodes_[m];
+      if (node.skipped) {
+        ++skipped_ticks_;
+      } else {
+        ++run_ticks_;
+      }
+      for (Decoded& d : node.decoded) {
+        if (!d.payload_valid) {
+          NodeCounters::bump(counters_[m].rx_crc_failures);
+        } else if (ledger_->on_decoded(d.tag.serial, m)) {
+          NodeCounters::bump(counters_[m].received);
+          sink_.deliver(m, NetFrame{d.tag.src, d.tag.dst, std::move(d.payload)});
+        }
+      }
+      node.decoded.clear();
+    }
+  }
+
+  void publish_status() {
+    std::lock_guard lock(status_mutex_);
+    status_.virtual_samples = now_;
+    status_.virtual_s = static_cast<double>(now_) / scenario_.timing.sample_rate_hz;
+    status_.wall_s = clock_.elapsed_wall_s();
+    status_.lag_s = clock_.lag_s();
+    status_.max_lag_s = clock_.max_lag_s();
+    status_.late_ticks = clock_.late_ticks();
+    status_.late_decodes = ledger_->late_decodes();
+    status_.receiver_ticks_run = run_ticks_;
+    status_.receiver_ticks_skipped = skipped_ticks_;
+  }
+
+  struct ScheduledFrame {
+    SampleTime at;
+    NodeId src;
+    NodeId dst;
+    std::size_t size;
+    unsigned repeat_index;
+  };
+
+  scenario::Scenario scenario_;
+  FrameSink& sink_;
+  std::size_t block_;
+  double gain_;
+  channel::ChannelMatrix channel_;
+  std::vector<NodeCounters> counters_;
+  std::vector<Node> nodes_;
+  std::vector<NodeId> ids_;
+  std::optional<FrameLedger> ledger_;
+  TickClock clock_;
+  WorkerPool pool_;
+  std::optional<channel::NoiseSource> shared_noise_;
+  std::vector<cf32> shared_noise_buf_;
+  std::vector<ScheduledFrame> traffic_;
+  std::size_t next_traffic_ = 0;
+  SampleTime now_ = 0;
+  std::uint64_t run_ticks_ = 0;
+  std::uint64_t skipped_ticks_ = 0;
+
+  std::mutex positions_mutex_;
+  std::vector<std::optional<std::optional<Ecef>>> pending_positions_;
+  std::atomic<bool> positions_dirty_{false};
+
+  mutable std::mutex status_mutex_;  // taken once per tick, never contended for long
+  EngineStatus status_;
+};
+
+}  // namespace
+
+std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink) {
+  return std::make_unique<LockStepEngine>(scenario, sink);
+}
+
+}  // namespace rfsitl::engine

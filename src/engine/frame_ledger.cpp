@@ -1,0 +1,141 @@
+#include "rfsitl/engine/frame_ledger.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rfsitl::engine {
+
+std::string_view loss_reason_name(LossReason r) {
+  switch (r) {
+    case LossReason::kBelowSensitivity:
+      return "below_sensitivity";
+    case LossReason::kCollision:
+      return "collision";
+    case LossReason::kHalfDuplex:
+      return "half_duplex";
+    case LossReason::kDecodeFailure:
+      return "decode_failure";
+    case LossReason::kUnknownDestination:
+      return "unknown_destination";
+  }
+  return "?";
+}
+
+NodeCountersSnapshot NodeCounters::snapshot() const {
+  // Outcomes are read before handed_in so that a concurrent snapshot never shows
+  // more outcomes than frames (pending() cannot underflow).
+  NodeCountersSnapshot s;
+  const auto rd = [](const std::atomic<std::uint64_t>& a) {
+    return a.load(std::memory_order_relaxed);
+  };
+  s.delivered = rd(delivered);
+  for (std::size_t i = 0; i < kNumLossReasons; ++i) s.lost[i] = rd(lost[i]);
+  s.queue_dropped = rd(queue_dropped);
+  std::atomic_thread_fence(std::memory_order_acquire);
+  s.handed_in = rd(handed_in);
+  s.transmitted = rd(transmitted);
+  s.received = rd(received);
+  s.rx_crc_failures = rd(rx_crc_failures);
+  s.framing_errors = rd(framing_errors);
+  s.to_agent_dropped = rd(to_agent_dropped);
+  s.location_updates = rd(location_updates);
+  s.location_errors = rd(location_errors);
+  return s;
+}
+
+FrameLedger::FrameLedger(LedgerConfig config, std::span<NodeCounters> counters,
+                         std::function<std::optional<std::size_t>(NodeId)> index_of_id)
+    : config_(config), counters_(counters), index_of_id_(std::move(index_of_id)) {}
+
+void FrameLedger::on_transmit(std::uint32_t serial, std::size_t tx, NodeId dst, SampleTime start,
+                              SampleTime end) {
+  records_.push_back(Record{serial, tx, dst, start, end});
+  longest_frame_ = std::max(longest_frame_, end - start);
+  NodeCounters::bump(counters_[tx].transmitted);
+}
+
+bool FrameLedger::on_decoded(std::uint32_t serial, std::size_t rx) {
+  auto it = std::find_if(records_.begin(), records_.end(),
+                         [&](const Record& r) { return r.serial == serial; });
+  if (it == records_.end() || it->tx == rx) return false;
+  Record& r = *it;
+  const bool broadcast = r.dst == kBroadcastId;
+  const auto dst_index = broadcast ? std::nullopt : index_of_id_(r.dst);
+  if (!broadcast && dst_index != rx) return false;
+  if (r.settled) {
+    // Decoded after its verdict was due: it was counted lost; keep the books
+    // consistent and do not deliver it (grace_samples is meant to make this rare).
+    ++late_decodes_;
+    return false;
+  }
+  ++r.decodes;
+  // A unicast frame is settled by its one decode; a broadcast waits for every
+  // receiver's verdict and counts as delivered if any receiver decoded it.
+  if (!broadcast) {
+    r.settled = true;
+    NodeCounters::bump(counters_[r.tx].delivered);
+  }
+  return true;
+}
+
+LossReason FrameLedger::loss_reason(const Record& r, std::size_t rx,
+                                    const channel::ChannelMatrix& channel) const {
+  const auto overlaps = [&](const Record& o) { return o.start < r.end && r.start < o.end; };
+  for (const Record& o : records_) {
+    if (o.tx == rx && overlaps(o)) return LossReason::kHalfDuplex;
+  }
+  const double noise = config_.noise_variance;
+  const double signal = channel.power_gain(r.tx, rx);
+  const double snr_db = signal <= 0.0  ? -INFINITY
+                        : noise <= 0.0 ? INFINITY
+                                       : 10.0 * std::log10(signal / noise);
+  if (snr_db < config_.sensitivity_snr_db) return LossReason::kBelowSensitivity;
+  for (const Record& o : records_) {
+    // An overlapping transmission counts as a collision when it reaches the
+    // receiver at least as strong as the noise floor.
+    if (&o != &r && o.tx != r.tx && overlaps(o) && channel.power_gain(o.tx, rx) >= noise &&
+        channel.power_gain(o.tx, rx) > 0.0F) {
+      return LossReason::kCollision;
+    }
+  }
+  return LossReason::kDecodeFailure;
+}
+
+void FrameLedger::settle_record(Record& r, const channel::ChannelMatrix& channel) {
+  r.settled = true;
+  NodeCounters& c = counters_[r.tx];
+  if (r.dst == kBroadcastId) {
+    if (r.decodes > 0) {
+      NodeCounters::bump(c.delivered);
+      return;
+    }
+    // Nobody decoded it: name the reason at the receiver with the best link.
+    std::optional<std::size_t> best;
+    for (std::size_t m = 0; m < channel.size(); ++m) {
+      if (m == r.tx) continue;
+      if (!best || channel.power_gain(r.tx, m) > channel.power_gain(r.tx, *best)) best = m;
+    }
+    const LossReason why = best ? loss_reason(r, *best, channel) : LossReason::kUnknownDestination;
+    NodeCounters::bump(c.lost[static_cast<std::size_t>(why)]);
+    return;
+  }
+  const auto rx = index_of_id_(r.dst);
+  const LossReason why = rx ? loss_reason(r, *rx, channel) : LossReason::kUnknownDestination;
+  NodeCounters::bump(c.lost[static_cast<std::size_t>(why)]);
+}
+
+void FrameLedger::settle(SampleTime now, const channel::ChannelMatrix& channel) {
+  for (Record& r : records_) {
+    if (!r.settled && r.end + config_.grace_samples <= now) settle_record(r, channel);
+  }
+  // A settled record is still needed while a frame it overlaps may await its verdict.
+  const SampleTime horizon = now - 2 * (longest_frame_ + config_.grace_samples);
+  std::erase_if(records_, [&](const Record& r) { return r.settled && r.end < horizon; });
+}
+
+std::size_t FrameLedger::in_flight() const {
+  return static_cast<std::size_t>(
+      std::count_if(records_.begin(), records_.end(), [](const Record& r) { return !r.settled; }));
+}
+
+}  // namespace rfsitl::engine

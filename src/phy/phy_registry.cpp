@@ -1,0 +1,43 @@
+#include "rfsitl/phy/phy_registry.hpp"
+
+#include <functional>
+#include <map>
+#include <stdexcept>
+
+#include "rfsitl/phy/gmsk_transceiver.hpp"
+
+namespace rfsitl::phy {
+namespace {
+
+using Factory = std::function<std::unique_ptr<Transceiver>(const scenario::PhyConfig&)>;
+
+const std::map<std::string, Factory>& registry() {
+  static const std::map<std::string, Factory> factories = {
+      {"gmsk",
+       [](const scenario::PhyConfig& c) {
+         return make_gmsk_transceiver(GmskSettings{c.samples_per_symbol, c.filter_delay_symbols,
+                                                   c.bandwidth_time, c.max_payload_bytes});
+       }},
+  };
+  return factories;
+}
+
+}  // namespace
+
+std::unique_ptr<Transceiver> make_transceiver(const scenario::PhyConfig& config) {
+  const auto it = registry().find(config.type);
+  if (it == registry().end()) {
+    std::string known;
+    for (const auto& name : known_phy_types()) known += (known.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("unknown phy type '" + config.type + "' (known: " + known + ")");
+  }
+  return it->second(config);
+}
+
+std::vector<std::string> known_phy_types() {
+  std::vector<std::string> names;
+  for (const auto& [name, factory] : registry()) names.push_back(name);
+  return names;
+}
+
+}  // namespace rfsitl::phy

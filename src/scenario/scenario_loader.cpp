@@ -1,0 +1,611 @@
+// Scenario files: YAML in, a validated Scenario out, and every mistake reported as
+// "<source>:<line>: <dotted.key>: <reason>" so that a user can fix it without reading
+// this code. Reading checks syntax, keys and types, and the ranges of integers (they
+// must fit their fields before being narrowed); validate() checks every range and
+// cross-field rule on any Scenario (a file, or defaults plus command-line overrides),
+// naming lines through the key -> line table that reading fills in.
+#include "rfsitl/scenario/scenario_loader.hpp"
+
+#include <arpa/inet.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <concepts>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rfsitl::scenario {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string fmt(double v) {
+  std::array<char, 32> buf{};
+  return {buf.data(), std::to_chars(buf.data(), buf.data() + buf.size(), v).ptr};
+}
+
+ScenarioError make_error(const std::string& source, int line, std::string_view key,
+                         std::string_view reason) {
+  std::string msg = line > 0 ? source + ":" + std::to_string(line) : source;
+  msg.append(": ").append(key).append(": ").append(reason);
+  return ScenarioError(msg);
+}
+
+// ---- limits ------------------------------------------------------------------------------
+
+struct IntLimit {  // every integer setting is unsigned
+  std::uint64_t lo;
+  std::uint64_t hi;
+  bool contains(std::uint64_t v) const { return v >= lo && v <= hi; }
+  std::string describe() const {
+    return "must be in " + std::to_string(lo) + ".." + std::to_string(hi);
+  }
+};
+
+struct RealLimit {  // NaN and infinities are never in range
+  double lo;
+  double hi;
+  bool lo_open = false;
+  bool hi_open = false;
+  bool contains(double v) const {
+    return std::isfinite(v) && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  std::string describe() const {
+    if (lo == -kInf && hi == kInf) return "must be a finite number";
+    if (hi == kInf) return std::string("must be ") + (lo_open ? "> " : ">= ") + fmt(lo);
+    return std::string("must be in ") + (lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) +
+           (hi_open ? ")" : "]");
+  }
+};
+
+constexpr IntLimit kNodeIdLimit{kMinNodeId, kMaxNodeId};
+constexpr IntLimit kDstLimit{kMinNodeId, kBroadcastId};  // listed or broadcast: validate()
+constexpr IntLimit kTickSamples{1, 1U << 20};
+constexpr IntLimit kSamplesPerSymbol{2, 16};
+constexpr IntLimit kFilterDelay{1, 16};
+constexpr IntLimit kPayloadBytes{1, 65535};
+constexpr IntLimit kTxQueue{1, 65536};
+constexpr IntLimit kThreads{0, 256};
+constexpr IntLimit kPort{0, 65535};
+constexpr IntLimit kSeed{0, std::numeric_limits<std::uint64_t>::max()};
+constexpr IntLimit kRepeat{1, std::numeric_limits<unsigned>::max()};
+constexpr RealLimit kPositive{0, kInf, true};
+constexpr RealLimit kNonNegative{0, kInf};
+constexpr RealLimit kBandwidthTime{0, 1, true, true};
+constexpr RealLimit kFinite{-kInf, kInf};
+constexpr RealLimit kLatitude{-90, 90};
+constexpr RealLimit kLongitude{-180, 180};
+constexpr RealLimit kAltitude{-1000, 100000};  // the location feed's bounds, so both agree
+constexpr RealLimit kNoisePowerDb{-300, 300};  // keeps 10^(dB/10) a normal, non-zero double
+
+constexpr std::array<std::string_view, 2> kTimeModes{"realtime", "virtual"};
+// The scenario library does not link the PHY registry; keep this in step with it.
+constexpr std::array<std::string_view, 1> kPhyTypes{"gmsk"};
+constexpr std::array<std::string_view, 1> kChannelModels{"paper"};
+
+template <typename Names>
+std::string join(const Names& names) {
+  std::string out;
+  for (const auto& n : names) out.append(out.empty() ? "" : ", ").append(n);
+  return out;
+}
+
+template <typename Names>
+bool is_one_of(std::string_view v, const Names& names) {
+  return std::find(names.begin(), names.end(), v) != names.end();
+}
+
+// ---- context: where errors point --------------------------------------------------------
+
+// The source name and the line of every key read from it. A key without a line of its
+// own takes its nearest parent's ("nodes[2].position.lat" -> "nodes[2].position" ->
+// "nodes[2]" -> "nodes"); with no line at all the message reads "<source>: <key>: ...".
+class Context {
+ public:
+  explicit Context(std::string source) : source_(std::move(source)) {}
+
+  void record(const std::string& key, int line) { lines_[key] = line; }
+  int line(std::string key) const {
+    for (;;) {
+      if (const auto it = lines_.find(key); it != lines_.end()) return it->second;
+      if (key.empty()) return 0;
+      const auto cut = key.find_last_of(".[");
+      key.resize(cut == std::string::npos ? 0 : cut);  // "" is the whole document
+    }
+  }
+  [[noreturn]] void fail(const std::string& key, std::string_view reason) const {
+    throw make_error(source_, line(key), key, reason);
+  }
+  void check(std::uint64_t v, const std::string& key, IntLimit lim) const {
+    if (!lim.contains(v)) fail(key, lim.describe() + ", got " + std::to_string(v));
+  }
+  void check(double v, const std::string& key, RealLimit lim) const {
+    if (!lim.contains(v)) fail(key, lim.describe() + ", got " + fmt(v));
+  }
+  template <typename Names>
+  void check_name(const std::string& v, const std::string& key, const Names& names) const {
+    if (!is_one_of(v, names)) fail(key, "unknown '" + v + "' (known: " + join(names) + ")");
+  }
+
+ private:
+  std::string source_;
+  std::map<std::string, int, std::less<>> lines_;
+};
+
+// ---- validate() ---------------------------------------------------------------------------
+
+void check_position(const Context& c, const Position& p, const std::string& key) {
+  if (const auto* g = std::get_if<GeodeticPosition>(&p)) {
+    c.check(g->lat_deg, key + ".lat", kLatitude);
+    c.check(g->lon_deg, key + ".lon", kLongitude);
+    c.check(g->alt_m, key + ".alt", kAltitude);
+  } else {
+    const auto& l = std::get<LocalPosition>(p);
+    c.check(l.x_m, key + ".x", kFinite);
+    c.check(l.y_m, key + ".y", kFinite);
+    c.check(l.z_m, key + ".z", kAltitude);
+  }
+}
+
+bool valid_bind_address(const std::string& a) {
+  in6_addr buf{};  // large enough for either family
+  return a == "localhost" || inet_pton(AF_INET, a.c_str(), &buf) == 1 ||
+         inet_pton(AF_INET6, a.c_str(), &buf) == 1;
+}
+
+using Listed = std::array<bool, 256>;  // indexed by NodeId
+
+void check_ports(const PortConfig& p, const Context& c, const Listed& listed, unsigned max_id) {
+  if (!valid_bind_address(p.bind_address)) {
+    c.fail("ports.bind",
+           "expected an IPv4/IPv6 address or localhost, got '" + p.bind_address + "'");
+  }
+  for (const auto& [key, base] :
+       {std::pair{"ports.net_base", p.net_base}, {"ports.loc_base", p.loc_base}}) {
+    if (const unsigned top = base + 10U * max_id; top > 65535) {
+      c.fail(key, "port of node " + std::to_string(max_id) + " would be " + std::to_string(top) +
+                      " (> 65535); must be <= " + std::to_string(65535 - 10 * max_id));
+    }
+  }
+  // Node a's net port is node b's location port when net_base + 10a == loc_base + 10b.
+  for (unsigned a = 0; a < listed.size(); ++a) {
+    const unsigned port = p.net_base + 10 * a;
+    if (!listed[a] || port < p.loc_base || (port - p.loc_base) % 10 != 0) continue;
+    if (const unsigned b = (port - p.loc_base) / 10; b < listed.size() && listed[b]) {
+      c.fail("ports.loc_base", "location port of node " + std::to_string(b) +
+                                   " and net port of node " + std::to_string(a) + " are both " +
+                                   std::to_string(port));
+    }
+  }
+}
+
+void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
+  for (std::size_t i = 0; i < s.traffic.size(); ++i) {
+    const TrafficItem& t = s.traffic[i];
+    const std::string key = "traffic[" + std::to_string(i) + "]";
+    c.check(t.at_s, key + ".at_s", kNonNegative);
+    if (!listed[t.src]) c.fail(key + ".src", "node " + std::to_string(t.src) + " is not in nodes");
+    if (t.dst != kBroadcastId && !listed[t.dst]) {
+      c.fail(key + ".dst", "node " + std::to_string(t.dst) + " is not in nodes (255 = broadcast)");
+    }
+    if (t.dst == t.src) c.fail(key + ".dst", "equals src (a half-duplex node cannot hear itself)");
+    c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, s.phy.max_payload_bytes});
+    c.check(t.repeat, key + ".repeat", kRepeat);
+    c.check(t.interval_s, key + ".interval_s", kNonNegative);
+  }
+}
+
+void validate(const Scenario& s, const Context& c) {
+  if (s.nodes.empty() || s.nodes.size() > kMaxNodeId) {
+    c.fail("nodes", "must list 1..250 nodes, got " + std::to_string(s.nodes.size()));
+  }
+  Listed listed{};
+  std::array<std::size_t, 256> first{};  // index of the first node with each id
+  unsigned max_id = 0;
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const std::string key = "nodes[" + std::to_string(i) + "]";
+    const NodeId id = s.nodes[i].id;
+    c.check(id, key + ".id", kNodeIdLimit);
+    if (listed[id]) {
+      const std::string other = "nodes[" + std::to_string(first[id]) + "].id";
+      const int other_line = c.line(other);
+      c.fail(key + ".id", "duplicate id " + std::to_string(id) + " (also " + other +
+                              (other_line > 0 ? ", line " + std::to_string(other_line) : "") + ")");
+    }
+    listed[id] = true;
+    first[id] = i;
+    max_id = std::max<unsigned>(max_id, id);
+    if (const auto& p = s.nodes[i].initial_position) check_position(c, *p, key + ".position");
+  }
+  c.check_name(s.phy.type, "phy.type", kPhyTypes);
+  c.check(s.phy.samples_per_symbol, "phy.samples_per_symbol", kSamplesPerSymbol);
+  c.check(s.phy.bandwidth_time, "phy.bandwidth_time", kBandwidthTime);
+  c.check(s.phy.filter_delay_symbols, "phy.filter_delay_symbols", kFilterDelay);
+  c.check(s.phy.max_payload_bytes, "phy.max_payload_bytes", kPayloadBytes);
+  c.check(s.phy.tx_queue_frames, "phy.tx_queue_frames", kTxQueue);
+  c.check_name(s.channel.model, "channel.model", kChannelModels);
+  c.check(s.channel.path_loss_exponent, "channel.path_loss_exponent", kNonNegative);
+  c.check(s.channel.noise_variance, "channel.noise_variance", kNonNegative);
+  check_position(c, s.channel.origin, "channel.origin");
+  c.check(s.timing.speed, "time.speed", kPositive);
+  c.check(s.timing.sample_rate_hz, "time.sample_rate_hz", kPositive);
+  c.check(s.timing.tick_samples, "time.tick_samples", kTickSamples);
+  c.check(s.timing.duration_s, "time.duration_s", kNonNegative);
+  c.check(s.engine.threads, "engine.threads", kThreads);
+  c.check(s.engine.stats_interval_s, "engine.stats_interval_s", kNonNegative);
+  check_ports(s.ports, c, listed, max_id);
+  check_traffic(s, c, listed);
+}
+
+// ---- YAML scalars -------------------------------------------------------------------------
+
+int line_of(const YAML::Node& n) {
+  return n.Mark().is_null() ? 0 : n.Mark().line + 1;
+}
+
+std::string kind_of(const YAML::Node& n) {
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  return n.IsSequence() ? "a list" : n.IsMap() ? "a mapping" : "nothing";
+}
+
+// A decimal number as YAML plain scalars write them: "1e6", "-78.789", "+3".
+std::optional<double> to_real(std::string_view t) {
+  if (t.size() > 1 && t[0] == '+' && t[1] != '-') t.remove_prefix(1);
+  double v = 0;
+  const auto res = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (t.empty() || res.ec != std::errc{} || res.ptr != t.data() + t.size()) return std::nullopt;
+  return v;
+}
+
+// The value under a dotted key; undefined when the key is absent.
+struct Entry {
+  YAML::Node value;
+  std::string key;
+  explicit operator bool() const { return value.IsDefined(); }
+};
+
+// A quoted scalar is a string in YAML, so where a number or boolean is expected
+// (`plain_only`) it is a type error, not a number in disguise.
+std::string scalar(const Context& c, const Entry& e, const std::string& expected, bool plain_only) {
+  const YAML::Node& v = e.value;
+  if (!v.IsScalar()) c.fail(e.key, "expected " + expected + ", got " + kind_of(v));
+  if (plain_only && v.Tag() == "!") {
+    c.fail(e.key, "expected " + expected + ", got the string \"" + v.Scalar() + "\"");
+  }
+  return v.Scalar();
+}
+
+std::string text(const Context& c, const Entry& e) {
+  return scalar(c, e, "a string", false);
+}
+
+bool boolean(const Context& c, const Entry& e) {
+  std::string t = scalar(c, e, "true or false", true);
+  for (char& ch : t) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (t == "true" || t == "yes" || t == "on") return true;
+  if (t == "false" || t == "no" || t == "off") return false;
+  c.fail(e.key, "expected true or false, got '" + e.value.Scalar() + "'");
+}
+
+// Any finite number; validate() applies the setting's own range.
+double real(const Context& c, const Entry& e) {
+  const std::string t = scalar(c, e, "a number", true);
+  const auto v = to_real(t);
+  if (!v) c.fail(e.key, "expected a number, got '" + t + "'");
+  c.check(*v, e.key, kFinite);
+  return *v;
+}
+
+// 1000, +1000 and 1e3 are the same integer; 1.5 is not an integer.
+std::uint64_t integer(const Context& c, const Entry& e, IntLimit lim) {
+  const std::string t = scalar(c, e, "an integer", true);
+  std::uint64_t u = 0;
+  const auto res = std::from_chars(t.data(), t.data() + t.size(), u);
+  if (res.ec != std::errc{} || res.ptr != t.data() + t.size()) {
+    const auto v = to_real(t);
+    if (!v) c.fail(e.key, "expected an integer, got '" + t + "'");
+    if (*v != std::floor(*v)) c.fail(e.key, "must be an integer, got " + t);
+    if (!(*v >= 0 && *v < 0x1p64)) c.fail(e.key, lim.describe() + ", got " + t);
+    u = static_cast<std::uint64_t>(*v);
+  }
+  c.check(u, e.key, lim);
+  return u;
+}
+
+// ---- YAML structure -----------------------------------------------------------------------
+
+// One mapping being read. Every key the code asks for is known; finish() turns any other
+// key into an error, so that a typo such as `tick_sample` is never silently ignored.
+class Section {
+ public:
+  Section(Context& c, const Entry& at) : c_(c), at_(at) {
+    if (!at || at.value.IsNull()) return;  // absent, or `key:` with nothing: all defaults
+    if (!at.value.IsMap())
+      c.fail(at.key, "expected a mapping (key: value), got " + kind_of(at.value));
+    std::map<std::string, int, std::less<>> seen;
+    for (const auto& kv : at.value) {
+      const std::string key = child(kv.first.Scalar());
+      if (!kv.first.IsScalar()) fail_at(kv.first, at.key, "keys must be plain names");
+      if (const auto [it, fresh] = seen.emplace(kv.first.Scalar(), line_of(kv.first)); !fresh) {
+        fail_at(kv.first, key, "duplicate key (first at line " + std::to_string(it->second) + ")");
+      }
+    }
+    map_ = at.value;
+  }
+
+  // The value under `leaf`, its line recorded for error messages.
+  Entry take(std::string_view leaf) {
+    known_.push_back(leaf);
+    Entry e{YAML::Node(YAML::NodeType::Undefined), child(leaf)};
+    for (const auto& kv : map_) {
+      if (kv.first.Scalar() != leaf) continue;
+      e.value = kv.second;
+      c_.record(e.key, line_of(kv.first));  // the key's line: an empty value marks the next token
+    }
+    return e;
+  }
+  Entry require(std::string_view leaf) {
+    Entry e = take(leaf);
+    if (!e) c_.fail(e.key, "required");
+    return e;
+  }
+
+  template <std::unsigned_integral T>
+  void get(std::string_view leaf, T& out, IntLimit lim) {
+    if (const Entry e = take(leaf)) out = static_cast<T>(integer(c_, e, lim));
+  }
+  template <std::floating_point T>
+  void get(std::string_view leaf, T& out) {
+    if (const Entry e = take(leaf)) out = static_cast<T>(real(c_, e));
+  }
+  void get(std::string_view leaf, bool& out) {
+    if (const Entry e = take(leaf)) out = boolean(c_, e);
+  }
+  void get(std::string_view leaf, std::string& out) {
+    if (const Entry e = take(leaf)) out = text(c_, e);
+  }
+
+  void finish() const {
+    for (const auto& kv : map_) {
+      if (is_one_of(kv.first.Scalar(), known_)) continue;
+      fail_at(kv.first, child(kv.first.Scalar()),
+              "unknown key (allowed " + (at_.key.empty() ? "at top level" : "in " + at_.key) +
+                  ": " + join(known_) + ")");
+    }
+  }
+
+ private:
+  std::string child(std::string_view leaf) const {
+    return at_.key.empty() ? std::string(leaf) : at_.key + "." + std::string(leaf);
+  }
+  [[noreturn]] void fail_at(const YAML::Node& n, const std::string& key,
+                            std::string_view why) const {
+    c_.record(key, line_of(n));
+    c_.fail(key, why);
+  }
+
+  Context& c_;
+  Entry at_;
+  YAML::Node map_{YAML::NodeType::Map};
+  std::vector<std::string_view> known_;
+};
+
+// Calls read(item) for every entry of a list; absent or empty means no entries.
+template <typename Read>
+void for_each_item(Context& c, const Entry& list, Read read) {
+  if (!list || list.value.IsNull()) return;
+  if (!list.value.IsSequence()) c.fail(list.key, "expected a list, got " + kind_of(list.value));
+  std::size_t i = 0;
+  for (const auto& item : list.value) {
+    const Entry e{item, list.key + "[" + std::to_string(i++) + "]"};
+    c.record(e.key, line_of(item));
+    read(e);
+  }
+}
+
+// "43.0008 -78.789 10" or "43.0008, -78.789, 10": exactly three numbers, else nullopt.
+std::optional<GeodeticPosition> three_numbers(std::string t) {
+  std::replace(t.begin(), t.end(), ',', ' ');
+  GeodeticPosition g;
+  int used = 0;
+  const int n = std::sscanf(t.c_str(), "%lf %lf %lf %n", &g.lat_deg, &g.lon_deg, &g.alt_m, &used);
+  return n == 3 && static_cast<std::size_t>(used) == t.size() ? std::optional(g) : std::nullopt;
+}
+
+// {lat, lon, alt}, {x, y, z} or "lat lon alt" (as on the location feed). No position
+// (absent or empty) means the node is placed by its location feed. Ranges: validate().
+std::optional<Position> read_position(Context& c, const Entry& e) {
+  if (!e || e.value.IsNull()) return std::nullopt;
+  if (e.value.IsScalar()) {
+    const auto g = three_numbers(text(c, e));
+    if (!g) c.fail(e.key, "expected 'lat lon alt' (three numbers), got '" + e.value.Scalar() + "'");
+    return *g;
+  }
+  if (!e.value.IsMap()) {
+    c.fail(e.key, "expected {lat, lon, alt}, {x, y, z} or 'lat lon alt', got " + kind_of(e.value));
+  }
+  Section sec(c, e);
+  const Entry lat = sec.take("lat"), lon = sec.take("lon"), alt = sec.take("alt");
+  const Entry x = sec.take("x"), y = sec.take("y"), z = sec.take("z");
+  sec.finish();
+  const bool geodetic = lat || lon || alt;
+  if (geodetic && (x || y || z)) c.fail(e.key, "mixes lat/lon/alt with x/y/z; use one form");
+  if (geodetic) {
+    if (!lat || !lon) c.fail(e.key, "needs lat and lon (alt defaults to 0)");
+    return GeodeticPosition{real(c, lat), real(c, lon), alt ? real(c, alt) : 0.0};
+  }
+  if (!x || !y) c.fail(e.key, "needs lat and lon (alt defaults to 0) or x and y (z defaults to 0)");
+  return LocalPosition{real(c, x), real(c, y), z ? real(c, z) : 0.0};
+}
+
+// ---- sections ----------------------------------------------------------------------------
+
+void read_time(Context& c, const Entry& at, TimingConfig& t) {
+  Section sec(c, at);
+  if (const Entry mode = sec.take("mode")) {
+    const std::string m = text(c, mode);
+    if (!is_one_of(m, kTimeModes))
+      c.fail(mode.key, "must be " + join(kTimeModes) + ", got '" + m + "'");
+    t.mode = m == "virtual" ? TimeMode::kVirtual : TimeMode::kRealTime;
+  }
+  sec.get("speed", t.speed);
+  sec.get("sample_rate_hz", t.sample_rate_hz);
+  sec.get("tick_samples", t.tick_samples, kTickSamples);
+  sec.get("duration_s", t.duration_s);
+  sec.finish();
+}
+
+void read_ports(Context& c, const Entry& at, PortConfig& p) {
+  Section sec(c, at);
+  sec.get("bind", p.bind_address);
+  sec.get("net_base", p.net_base, kPort);
+  sec.get("loc_base", p.loc_base, kPort);
+  sec.finish();
+}
+
+void read_phy(Context& c, const Entry& at, PhyConfig& p) {
+  Section sec(c, at);
+  sec.get("type", p.type);
+  sec.get("samples_per_symbol", p.samples_per_symbol, kSamplesPerSymbol);
+  sec.get("bandwidth_time", p.bandwidth_time);
+  sec.get("filter_delay_symbols", p.filter_delay_symbols, kFilterDelay);
+  sec.get("max_payload_bytes", p.max_payload_bytes, kPayloadBytes);
+  sec.get("tx_queue_frames", p.tx_queue_frames, kTxQueue);
+  sec.finish();
+}
+
+void read_channel(Context& c, const Entry& at, ChannelConfig& ch) {
+  Section sec(c, at);
+  sec.get("model", ch.model);
+  sec.get("path_loss_exponent", ch.path_loss_exponent);
+  const Entry variance = sec.take("noise_variance");
+  const Entry power_db = sec.take("noise_power_db");
+  // Two spellings of one quantity: accepting both would silently prefer one of them.
+  if (variance && power_db) {
+    c.fail(power_db.key, "conflicts with channel.noise_variance (line " +
+                             std::to_string(c.line(variance.key)) + "); give only one");
+  }
+  if (variance) ch.noise_variance = real(c, variance);
+  if (power_db) {
+    const double db = real(c, power_db);
+    c.check(db, power_db.key, kNoisePowerDb);
+    ch.noise_variance = std::pow(10.0, db / 10.0);
+  }
+  sec.get("shared_noise", ch.shared_noise);
+  if (const Entry origin = sec.take("origin")) {
+    const auto p = read_position(c, origin);
+    if (!p || !std::holds_alternative<GeodeticPosition>(*p)) {
+      c.fail(origin.key, "must be a geodetic position {lat, lon, alt}");
+    }
+    ch.origin = std::get<GeodeticPosition>(*p);
+  }
+  sec.finish();
+}
+
+void read_engine(Context& c, const Entry& at, EngineConfig& e) {
+  Section sec(c, at);
+  sec.get("threads", e.threads, kThreads);
+  sec.get("skip_idle_receivers", e.skip_idle_receivers);
+  sec.get("stats_interval_s", e.stats_interval_s);
+  sec.finish();
+}
+
+// Node ids and traffic endpoints are required although the structs have defaults: a
+// silent default would invent a node the user never named.
+NodeId node_id(Context& c, Section& sec, std::string_view leaf, IntLimit lim) {
+  return static_cast<NodeId>(integer(c, sec.require(leaf), lim));
+}
+
+NodeConfig read_node(Context& c, const Entry& at) {
+  Section sec(c, at);
+  NodeConfig n;
+  n.id = node_id(c, sec, "id", kNodeIdLimit);
+  n.initial_position = read_position(c, sec.take("position"));
+  sec.finish();
+  return n;
+}
+
+TrafficItem read_traffic_item(Context& c, const Entry& at) {
+  Section sec(c, at);
+  TrafficItem t;
+  sec.get("at_s", t.at_s);
+  t.src = node_id(c, sec, "src", kNodeIdLimit);
+  t.dst = node_id(c, sec, "dst", kDstLimit);
+  sec.get("size_bytes", t.size_bytes, kPayloadBytes);  // validate(): <= phy.max_payload_bytes
+  sec.get("repeat", t.repeat, kRepeat);
+  sec.get("interval_s", t.interval_s);
+  sec.finish();
+  return t;
+}
+
+Scenario read_scenario(Context& c, const YAML::Node& root) {
+  c.record("", std::max(line_of(root), 1));  // "nodes: required" points at the document
+  if (!root.IsMap() && !root.IsNull())
+    c.fail("(top level)", "expected a mapping, got " + kind_of(root));
+  Section sec(c, Entry{root, ""});
+  Scenario s;
+  sec.get("name", s.name);
+  sec.get("seed", s.seed, kSeed);
+  read_time(c, sec.take("time"), s.timing);
+  read_ports(c, sec.take("ports"), s.ports);
+  read_phy(c, sec.take("phy"), s.phy);
+  read_channel(c, sec.take("channel"), s.channel);
+  read_engine(c, sec.take("engine"), s.engine);
+  for_each_item(c, sec.require("nodes"),
+                [&](const Entry& e) { s.nodes.push_back(read_node(c, e)); });
+  for_each_item(c, sec.take("traffic"),
+                [&](const Entry& e) { s.traffic.push_back(read_traffic_item(c, e)); });
+  sec.finish();
+  return s;
+}
+
+}  // namespace
+
+Scenario parse_scenario(std::string_view yaml_text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml_text));
+  } catch (const YAML::Exception& e) {
+    const bool marked = !e.mark.is_null();
+    throw make_error(source, marked ? e.mark.line + 1 : 0, "YAML syntax",
+                     e.msg + (marked ? " (column " + std::to_string(e.mark.column + 1) + ")" : ""));
+  }
+  Context context(source);
+  Scenario s = read_scenario(context, root);
+  validate(s, context);
+  return s;
+}
+
+Scenario load_scenario_file(const std::string& path) {
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                             &std::fclose);
+  const auto unreadable = [&path] {
+    return ScenarioError(path + ": cannot read scenario file: " + std::strerror(errno));
+  };
+  if (!file) throw unreadable();
+  std::string contents;
+  std::array<char, 8192> buf{};
+  for (std::size_t n; (n = std::fread(buf.data(), 1, buf.size(), file.get())) > 0;) {
+    contents.append(buf.data(), n);
+  }
+  if (std::ferror(file.get())) throw unreadable();  // e.g. a directory: EISDIR
+  return parse_scenario(contents, path);
+}
+
+void validate_scenario(const Scenario& s) {
+  validate(s, Context("scenario"));
+}
+
+}  // namespace rfsitl::scenario

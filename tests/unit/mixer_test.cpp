@@ -1,0 +1,124 @@
+#include "rfsitl/channel/mixer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "rfsitl/channel/channel_matrix.hpp"
+#include "rfsitl/channel/geodesy.hpp"
+
+namespace rfsitl::channel {
+namespace {
+
+TEST(Mixer, ThreeNodeSuperpositionMatchesHandComputation) {
+  // Three nodes 0, 1, 3 m east of an origin: d01 = 1, d12 = 2, d02 = 3.
+  // With exponent 3, PL = (d+1)^-3:
+  //   PL00 = PL11 = PL22 = 1, PL01 = 1/8, PL12 = 1/27, PL02 = 1/64.
+  const GeodeticPosition origin{43.0, -78.8, 200.0};
+  ChannelMatrix m(3, make_paper_link_model(3.0));
+  m.set_position(0, local_to_ecef({0.0, 0.0, 0.0}, origin));
+  m.set_position(1, local_to_ecef({1.0, 0.0, 0.0}, origin));
+  m.set_position(2, local_to_ecef({3.0, 0.0, 0.0}, origin));
+
+  const std::array<cf32, 2> x0{cf32{1, 0}, cf32{0, 1}};
+  const std::array<cf32, 2> x1{cf32{8, 0}, cf32{8, -8}};
+  const std::array<cf32, 2> x2{cf32{0, 64}, cf32{64, 0}};
+  const std::array<const cf32*, 3> inputs{x0.data(), x1.data(), x2.data()};
+
+  // y_m[t] = (1+j)/sqrt2 * s_m[t] with s_m[t] = sum_n PL_nm x_n[t], and
+  // (1+j)/sqrt2 * (a + jb) = ((a - b) + j(a + b)) / sqrt2.
+  //
+  // s_0[0] = 1*1 + 1/8*8 + 1/64*64j             = 2 + 1j
+  //   y_0[0] = (1 + 3j)/sqrt2                     = 0.707107 + 2.121320j
+  // s_0[1] = 1*j + 1/8*(8-8j) + 1/64*64         = 2 + 0j
+  //   y_0[1] = (2 + 2j)/sqrt2                     = 1.414214 + 1.414214j
+  // s_1[0] = 1/8*1 + 1*8 + 1/27*64j             = 8.125 + 2.370370j
+  //   y_1[0] = (5.754630 + 10.495370j)/sqrt2      = 4.069138 + 7.421348j
+  // s_1[1] = 1/8*j + (8-8j) + 1/27*64           = 10.370370 - 7.875j
+  //   y_1[1] = (18.245370 + 2.495370j)/sqrt2      = 12.901425 + 1.764493j
+  // s_2[0] = 1/64*1 + 1/27*8 + 64j              = 0.311921 + 64j
+  //   y_2[0] = (-63.688079 + 64.311921j)/sqrt2    = -45.034272 + 45.475396j
+  // s_2[1] = 1/64*j + 1/27*(8-8j) + 64          = 64.296296 - 0.280671j
+  //   y_2[1] = (64.576968 + 64.015625j)/sqrt2     = 45.662812 + 45.265883j
+  const std::array<std::array<cf32, 2>, 3> expected{{
+      {cf32{0.707107f, 2.121320f}, cf32{1.414214f, 1.414214f}},
+      {cf32{4.069138f, 7.421348f}, cf32{12.901425f, 1.764493f}},
+      {cf32{-45.034272f, 45.475396f}, cf32{45.662812f, 45.265883f}},
+  }};
+
+  for (std::size_t rx = 0; rx < 3; ++rx) {
+    std::array<cf32, 2> y{};
+    mix(inputs, m.receiver_row(rx), y);
+    for (std::size_t t = 0; t < 2; ++t) {
+      EXPECT_NEAR(y[t].real(), expected[rx][t].real(), 1e-4) << "rx " << rx << " t " << t;
+      EXPECT_NEAR(y[t].imag(), expected[rx][t].imag(), 1e-4) << "rx " << rx << " t " << t;
+    }
+  }
+}
+
+TEST(Mixer, NoInputsZeroFillsOutput) {
+  std::vector<cf32> out(5, cf32{7.0f, -3.0f});
+  mix({}, {}, out);
+  for (const cf32& v : out) {
+    EXPECT_EQ(v, cf32(0.0f, 0.0f));
+  }
+}
+
+TEST(Mixer, AllZeroCoefficientsZeroFillOutput) {
+  const std::vector<cf32> x(4, cf32{1.0f, 1.0f});
+  const std::array<const cf32*, 1> inputs{x.data()};
+  const std::array<cf32, 1> coeffs{cf32{0.0f, 0.0f}};
+  std::vector<cf32> out(4, cf32{7.0f, -3.0f});
+  mix(inputs, coeffs, out);
+  for (const cf32& v : out) {
+    EXPECT_EQ(v, cf32(0.0f, 0.0f));
+  }
+}
+
+TEST(Mixer, SingleInputIsComplexScaled) {
+  // (2 + 3j)(1 - 1j) = 2 - 2j + 3j + 3 = 5 + 1j;  (2 + 3j)(0.5j) = -1.5 + 1j.
+  const std::array<cf32, 2> x{cf32{1.0f, -1.0f}, cf32{0.0f, 0.5f}};
+  const std::array<const cf32*, 1> inputs{x.data()};
+  const std::array<cf32, 1> coeffs{cf32{2.0f, 3.0f}};
+  std::array<cf32, 2> out{};
+  mix(inputs, coeffs, out);
+  EXPECT_EQ(out[0], cf32(5.0f, 1.0f));
+  EXPECT_EQ(out[1], cf32(-1.5f, 1.0f));
+}
+
+TEST(Mixer, MatchesStdComplexReferenceAcrossBlockAndTailLengths) {
+  // Lengths around the kernel's 8-sample block exercise both the blocked loop
+  // and the scalar tail; a zero coefficient in the middle is skipped.
+  const std::array<cf32, 4> coeffs{cf32{0.3f, -0.7f}, cf32{-1.1f, 0.2f}, cf32{0.0f, 0.0f},
+                                   cf32{0.05f, 0.9f}};
+  for (std::size_t len : {0u, 1u, 7u, 8u, 9u, 16u, 37u, 1024u}) {
+    std::vector<std::vector<cf32>> x(coeffs.size(), std::vector<cf32>(len));
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      for (std::size_t t = 0; t < len; ++t) {
+        // Deterministic, non-repeating pattern with both signs.
+        x[i][t] = cf32{std::sin(static_cast<float>(3 * t + i)),
+                       std::cos(static_cast<float>(t * t + 7 * i))};
+      }
+    }
+    std::vector<const cf32*> inputs;
+    for (const auto& v : x) {
+      inputs.push_back(v.data());
+    }
+    std::vector<cf32> out(len, cf32{99.0f, 99.0f});
+    mix(inputs, coeffs, out);
+    for (std::size_t t = 0; t < len; ++t) {
+      std::complex<double> want{0.0, 0.0};
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        want += std::complex<double>(coeffs[i]) * std::complex<double>(x[i][t]);
+      }
+      EXPECT_NEAR(out[t].real(), want.real(), 1e-5) << "len " << len << " t " << t;
+      EXPECT_NEAR(out[t].imag(), want.imag(), 1e-5) << "len " << len << " t " << t;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rfsitl::channel

@@ -1,0 +1,153 @@
+#include "rfsitl/channel/noise_source.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+namespace rfsitl::channel {
+namespace {
+
+struct Moments {
+  double mean_i = 0, mean_q = 0;
+  double var_i = 0, var_q = 0;  // about the sample mean
+  double power = 0;             // E|eta|^2, about zero (the setting's definition)
+  double cov_iq = 0;
+  double kurtosis_i = 0;  // E[(I - mean)^4] / var^2; 3 for a Gaussian
+};
+
+Moments measure(const std::vector<cf32>& v) {
+  Moments m;
+  const auto n = static_cast<double>(v.size());
+  for (const cf32& s : v) {
+    m.mean_i += s.real();
+    m.mean_q += s.imag();
+  }
+  m.mean_i /= n;
+  m.mean_q /= n;
+  double m4 = 0;
+  for (const cf32& s : v) {
+    const double di = s.real() - m.mean_i;
+    const double dq = s.imag() - m.mean_q;
+    m.var_i += di * di;
+    m.var_q += dq * dq;
+    m.cov_iq += di * dq;
+    m4 += di * di * di * di;
+    m.power += static_cast<double>(std::norm(s));
+  }
+  m.var_i /= n;
+  m.var_q /= n;
+  m.cov_iq /= n;
+  m.power /= n;
+  m.kurtosis_i = (m4 / n) / (m.var_i * m.var_i);
+  return m;
+}
+
+void check_statistics(std::uint64_t seed, float variance) {
+  constexpr std::size_t kN = 1'000'000;
+  NoiseSource src(seed, variance);
+  EXPECT_EQ(src.variance(), variance);
+  std::vector<cf32> v(kN);
+  src.fill(v);
+  const Moments m = measure(v);
+  const double var = variance;
+  std::printf(
+      "[ noise    ] variance %.3g: measured E|eta|^2 %.6g (%.4f of setting), "
+      "var I %.4f, var Q %.4f of setting, mean I %.3g, mean Q %.3g sigma, kurtosis %.4f\n",
+      var, m.power, m.power / var, m.var_i / var, m.var_q / var, m.mean_i / std::sqrt(var / 2),
+      m.mean_q / std::sqrt(var / 2), m.kurtosis_i);
+
+  EXPECT_NEAR(m.power / var, 1.0, 0.02);
+  EXPECT_NEAR(m.var_i / var, 0.5, 0.01);  // 2% of variance/2
+  EXPECT_NEAR(m.var_q / var, 0.5, 0.01);
+  // Standard error of the mean is sigma/sqrt(N) = 0.001 sigma; allow 5 of them.
+  const double sigma_dim = std::sqrt(var / 2);
+  EXPECT_LT(std::abs(m.mean_i), 0.005 * sigma_dim);
+  EXPECT_LT(std::abs(m.mean_q), 0.005 * sigma_dim);
+  // I and Q uncorrelated (circular noise): normalized covariance ~ 0.
+  EXPECT_LT(std::abs(m.cov_iq) / (var / 2), 0.01);
+  // Gaussian rather than e.g. uniform (1.8) or Laplacian (6).
+  EXPECT_NEAR(m.kurtosis_i, 3.0, 0.05);
+}
+
+TEST(NoiseSource, MeasuredVarianceWithin2PercentForUnitScale) {
+  check_statistics(1, 2.0f);
+}
+
+TEST(NoiseSource, MeasuredVarianceWithin2PercentForThermalScale) {
+  check_statistics(7, 1e-12f);
+}
+
+TEST(NoiseSource, SameSeedGivesIdenticalOutput) {
+  NoiseSource a(42, 1.0f);
+  NoiseSource b(42, 1.0f);
+  std::vector<cf32> va(4096), vb(4096);
+  a.fill(va);
+  b.fill(vb);
+  EXPECT_EQ(va, vb);
+}
+
+TEST(NoiseSource, DifferentSeedsGiveDifferentOutput) {
+  // Adjacent seeds on purpose: splitmix64 seeding must decorrelate them.
+  NoiseSource a(42, 1.0f);
+  NoiseSource b(43, 1.0f);
+  std::vector<cf32> va(4096), vb(4096);
+  a.fill(va);
+  b.fill(vb);
+  std::size_t equal = 0;
+  double cross = 0;
+  for (std::size_t t = 0; t < va.size(); ++t) {
+    equal += (va[t] == vb[t]) ? 1u : 0u;
+    cross += static_cast<double>(va[t].real() * vb[t].real());
+  }
+  EXPECT_EQ(equal, 0u);
+  // Independent streams: normalized correlation ~ N(0, 1/sqrt(4096)) = 0.016.
+  EXPECT_LT(std::abs(cross / (0.5 * static_cast<double>(va.size()))), 0.08);
+}
+
+TEST(NoiseSource, StreamDoesNotDependOnBufferSplitting) {
+  NoiseSource whole(5, 1.0f);
+  NoiseSource parts(5, 1.0f);
+  std::vector<cf32> a(1000), b(1000);
+  whole.fill(a);
+  parts.fill(std::span<cf32>(b).first(1));
+  parts.fill(std::span<cf32>(b).subspan(1, 299));
+  parts.fill(std::span<cf32>(b).subspan(300));
+  EXPECT_EQ(a, b);
+}
+
+TEST(NoiseSource, AddToAddsTheSameNoiseOnTopOfTheSignal) {
+  NoiseSource filler(9, 0.5f);
+  NoiseSource adder(9, 0.5f);
+  std::vector<cf32> noise(256);
+  filler.fill(noise);
+  std::vector<cf32> signal(256, cf32{1.0f, -2.0f});
+  adder.add_to(signal);
+  for (std::size_t t = 0; t < signal.size(); ++t) {
+    EXPECT_EQ(signal[t], cf32(1.0f, -2.0f) + noise[t]) << "t " << t;
+  }
+}
+
+TEST(NoiseSource, ZeroVarianceIsSilentAndAddToLeavesSignalUnchanged) {
+  NoiseSource src(3, 0.0f);
+  std::vector<cf32> v(64, cf32{5.0f, 5.0f});
+  src.add_to(v);
+  for (const cf32& s : v) {
+    EXPECT_EQ(s, cf32(5.0f, 5.0f));
+  }
+  src.fill(v);
+  for (const cf32& s : v) {
+    EXPECT_EQ(s, cf32(0.0f, 0.0f));
+  }
+}
+
+TEST(NoiseSource, RejectsNegativeOrNonFiniteVariance) {
+  EXPECT_THROW(NoiseSource(1, -1.0f), std::invalid_argument);
+  EXPECT_THROW(NoiseSource(1, std::nanf("")), std::invalid_argument);
+  EXPECT_THROW(NoiseSource(1, INFINITY), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rfsitl::channel

@@ -1,0 +1,419 @@
+// Scenario files: every value read, every default kept, and every mistake reported as
+// "<source>:<line>: <key>: <reason>" with the exact line.
+#include "rfsitl/scenario/scenario_loader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <variant>
+
+namespace rfsitl::scenario {
+namespace {
+
+// The message of the ScenarioError that parsing `yaml` throws.
+std::string error_of(const std::string& yaml) {
+  try {
+    parse_scenario(yaml, "t.yaml");
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted:\n" << yaml;
+  return {};
+}
+
+std::string validation_error_of(const Scenario& s) {
+  try {
+    validate_scenario(s);
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "validate_scenario accepted the scenario";
+  return {};
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+constexpr const char* kFull = R"(name: full-test
+seed: 18446744073709551615
+time:
+  mode: virtual
+  speed: 2.5
+  sample_rate_hz: 2000000
+  tick_samples: 500
+  duration_s: 12.5
+ports:
+  bind: "::1"
+  net_base: 20000
+  loc_base: 20005
+phy:
+  type: gmsk
+  samples_per_symbol: 4
+  bandwidth_time: 0.3
+  filter_delay_symbols: 4
+  max_payload_bytes: 1000
+  tx_queue_frames: 8
+channel:
+  model: paper
+  path_loss_exponent: 2.5
+  noise_variance: 1e-10
+  shared_noise: yes
+  origin: {lat: 40.5, lon: -75.25, alt: 100}
+engine:
+  threads: 4
+  skip_idle_receivers: false
+  stats_interval_s: 0
+nodes:
+  - id: 3
+    position: {lat: 40.5001, lon: -75.2501, alt: 20}
+  - id: 7
+    position: {x: 1.5, y: -2, z: 30}
+  - id: 9
+    position: "40.5002, -75.2502, 40"
+  - id: 12
+traffic:
+  - {at_s: 0.01, src: 3, dst: 7, size_bytes: 100, repeat: 5, interval_s: 0.2}
+  - {src: 7, dst: 255}
+)";
+
+TEST(ParseScenario, FullScenarioReadsEveryValue) {
+  const Scenario s = parse_scenario(kFull, "full.yaml");
+  EXPECT_EQ(s.name, "full-test");
+  EXPECT_EQ(s.seed, 18446744073709551615ULL);
+  EXPECT_EQ(s.timing.mode, TimeMode::kVirtual);
+  EXPECT_DOUBLE_EQ(s.timing.speed, 2.5);
+  EXPECT_DOUBLE_EQ(s.timing.sample_rate_hz, 2e6);
+  EXPECT_EQ(s.timing.tick_samples, 500U);
+  EXPECT_DOUBLE_EQ(s.timing.duration_s, 12.5);
+  EXPECT_EQ(s.ports.bind_address, "::1");
+  EXPECT_EQ(s.ports.net_base, 20000);
+  EXPECT_EQ(s.ports.loc_base, 20005);
+  EXPECT_EQ(s.phy.type, "gmsk");
+  EXPECT_EQ(s.phy.samples_per_symbol, 4U);
+  EXPECT_FLOAT_EQ(s.phy.bandwidth_time, 0.3F);
+  EXPECT_EQ(s.phy.filter_delay_symbols, 4U);
+  EXPECT_EQ(s.phy.max_payload_bytes, 1000U);
+  EXPECT_EQ(s.phy.tx_queue_frames, 8U);
+  EXPECT_EQ(s.channel.model, "paper");
+  EXPECT_DOUBLE_EQ(s.channel.path_loss_exponent, 2.5);
+  EXPECT_DOUBLE_EQ(s.channel.noise_variance, 1e-10);
+  EXPECT_TRUE(s.channel.shared_noise);
+  EXPECT_DOUBLE_EQ(s.channel.origin.lat_deg, 40.5);
+  EXPECT_DOUBLE_EQ(s.channel.origin.lon_deg, -75.25);
+  EXPECT_DOUBLE_EQ(s.channel.origin.alt_m, 100);
+  EXPECT_EQ(s.engine.threads, 4U);
+  EXPECT_FALSE(s.engine.skip_idle_receivers);
+  EXPECT_DOUBLE_EQ(s.engine.stats_interval_s, 0);
+
+  ASSERT_EQ(s.nodes.size(), 4U);
+  EXPECT_EQ(s.nodes[0].id, 3);
+  const auto& g = std::get<GeodeticPosition>(*s.nodes[0].initial_position);
+  EXPECT_DOUBLE_EQ(g.lat_deg, 40.5001);
+  EXPECT_DOUBLE_EQ(g.lon_deg, -75.2501);
+  EXPECT_DOUBLE_EQ(g.alt_m, 20);
+  EXPECT_EQ(s.nodes[1].id, 7);
+  const auto& l = std::get<LocalPosition>(*s.nodes[1].initial_position);
+  EXPECT_DOUBLE_EQ(l.x_m, 1.5);
+  EXPECT_DOUBLE_EQ(l.y_m, -2);
+  EXPECT_DOUBLE_EQ(l.z_m, 30);
+  EXPECT_EQ(s.nodes[2].id, 9);
+  const auto& str = std::get<GeodeticPosition>(*s.nodes[2].initial_position);
+  EXPECT_DOUBLE_EQ(str.lat_deg, 40.5002);
+  EXPECT_DOUBLE_EQ(str.lon_deg, -75.2502);
+  EXPECT_DOUBLE_EQ(str.alt_m, 40);
+  EXPECT_EQ(s.nodes[3].id, 12);
+  EXPECT_FALSE(s.nodes[3].initial_position.has_value());
+
+  ASSERT_EQ(s.traffic.size(), 2U);
+  EXPECT_DOUBLE_EQ(s.traffic[0].at_s, 0.01);
+  EXPECT_EQ(s.traffic[0].src, 3);
+  EXPECT_EQ(s.traffic[0].dst, 7);
+  EXPECT_EQ(s.traffic[0].size_bytes, 100U);
+  EXPECT_EQ(s.traffic[0].repeat, 5U);
+  EXPECT_DOUBLE_EQ(s.traffic[0].interval_s, 0.2);
+  EXPECT_EQ(s.traffic[1].dst, kBroadcastId);
+  EXPECT_EQ(s.traffic[1].size_bytes, TrafficItem{}.size_bytes);  // per-item defaults
+}
+
+TEST(ParseScenario, AbsentSectionsKeepTheStructDefaults) {
+  const Scenario s = parse_scenario("nodes:\n  - id: 1\n", "t.yaml");
+  const Scenario d;
+  EXPECT_EQ(s.name, d.name);
+  EXPECT_EQ(s.seed, d.seed);
+  EXPECT_EQ(s.timing.mode, d.timing.mode);
+  EXPECT_EQ(s.timing.speed, d.timing.speed);
+  EXPECT_EQ(s.timing.sample_rate_hz, d.timing.sample_rate_hz);
+  EXPECT_EQ(s.timing.tick_samples, d.timing.tick_samples);
+  EXPECT_EQ(s.timing.duration_s, d.timing.duration_s);
+  EXPECT_EQ(s.ports.bind_address, d.ports.bind_address);
+  EXPECT_EQ(s.ports.net_base, d.ports.net_base);
+  EXPECT_EQ(s.ports.loc_base, d.ports.loc_base);
+  EXPECT_EQ(s.phy.type, d.phy.type);
+  EXPECT_EQ(s.phy.samples_per_symbol, d.phy.samples_per_symbol);
+  EXPECT_EQ(s.phy.bandwidth_time, d.phy.bandwidth_time);
+  EXPECT_EQ(s.phy.filter_delay_symbols, d.phy.filter_delay_symbols);
+  EXPECT_EQ(s.phy.max_payload_bytes, d.phy.max_payload_bytes);
+  EXPECT_EQ(s.phy.tx_queue_frames, d.phy.tx_queue_frames);
+  EXPECT_EQ(s.channel.model, d.channel.model);
+  EXPECT_EQ(s.channel.path_loss_exponent, d.channel.path_loss_exponent);
+  EXPECT_EQ(s.channel.noise_variance, d.channel.noise_variance);
+  EXPECT_EQ(s.channel.shared_noise, d.channel.shared_noise);
+  EXPECT_EQ(s.channel.origin.lat_deg, d.channel.origin.lat_deg);
+  EXPECT_EQ(s.channel.origin.lon_deg, d.channel.origin.lon_deg);
+  EXPECT_EQ(s.channel.origin.alt_m, d.channel.origin.alt_m);
+  EXPECT_EQ(s.engine.threads, d.engine.threads);
+  EXPECT_EQ(s.engine.skip_idle_receivers, d.engine.skip_idle_receivers);
+  EXPECT_EQ(s.engine.stats_interval_s, d.engine.stats_interval_s);
+  ASSERT_EQ(s.nodes.size(), 1U);
+  EXPECT_FALSE(s.nodes[0].initial_position.has_value());
+  EXPECT_TRUE(s.traffic.empty());
+}
+
+TEST(ParseScenario, EmptySectionsKeepTheStructDefaults) {
+  const Scenario s = parse_scenario("time:\nphy:\ntraffic:\nnodes: [{id: 1}]\n", "t.yaml");
+  EXPECT_EQ(s.timing.tick_samples, TimingConfig{}.tick_samples);
+  EXPECT_EQ(s.phy.type, "gmsk");
+  EXPECT_TRUE(s.traffic.empty());
+}
+
+TEST(ParseScenario, NumbersInEitherNotation) {
+  const char* yaml = "time: {sample_rate_hz: %s, tick_samples: %s}\nnodes: [{id: 1}]\n";
+  for (const auto& [rate, tick] :
+       {std::pair{"1e6", "1e3"}, {"1000000", "1000"}, {"+1.0e+6", "+1000"}}) {
+    std::string text(yaml);
+    text.replace(text.find("%s"), 2, rate);
+    text.replace(text.find("%s"), 2, tick);
+    const Scenario s = parse_scenario(text, "t.yaml");
+    EXPECT_EQ(s.timing.sample_rate_hz, 1e6) << text;
+    EXPECT_EQ(s.timing.tick_samples, 1000U) << text;
+  }
+}
+
+TEST(ParseScenario, NoisePowerDbSetsTheVariance) {
+  const Scenario s = parse_scenario("channel: {noise_power_db: -90}\nnodes: [{id: 1}]\n", "t.yaml");
+  EXPECT_NEAR(s.channel.noise_variance, 1e-9, 1e-21);
+}
+
+TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
+  // Each case: a scenario with one mistake, and the whole message it must produce.
+  const std::pair<const char*, const char*> cases[] = {
+      {"nodes: [{id: 1}]\nphy:\n  type: gmsk\n  bandwidth_time: 1.5\n",
+       "t.yaml:4: phy.bandwidth_time: must be in (0, 1), got 1.5"},
+      {"nodes: [{id: 1}]\ntime:\n  tick_samples: 0\n",
+       "t.yaml:3: time.tick_samples: must be in 1..1048576, got 0"},
+      {"nodes: [{id: 1}]\ntime:\n  tick_samples: 2.5\n",
+       "t.yaml:3: time.tick_samples: must be an integer, got 2.5"},
+      {"nodes: [{id: 1}]\ntime:\n  speed:\n  mode: virtual\n",
+       "t.yaml:3: time.speed: expected a number, got nothing"},  // the key's line, not the next
+      {"nodes: [{id: 1}]\ntime:\n  speed: -1\n", "t.yaml:3: time.speed: must be > 0, got -1"},
+      {"nodes: [{id: 1}]\ntime:\n  mode: fast\n",
+       "t.yaml:3: time.mode: must be realtime, virtual, got 'fast'"},
+      {"nodes:\n  - id: 1\n  - id: 251\n", "t.yaml:3: nodes[1].id: must be in 1..250, got 251"},
+      {"nodes:\n  - position: {x: 0, y: 0}\n", "t.yaml:2: nodes[0].id: required"},
+      {"nodes:\n  - id: 1\n    position:\n      lat: 91\n      lon: 0\n",
+       "t.yaml:4: nodes[0].position.lat: must be in [-90, 90], got 91"},
+      {"nodes:\n  - id: 1\n    position: \"43 -78\"\n",
+       "t.yaml:3: nodes[0].position: expected 'lat lon alt' (three numbers), got '43 -78'"},
+      {"nodes:\n  - id: 1\n    position: {lat: 43, lon: -78, x: 1}\n",
+       "t.yaml:3: nodes[0].position: mixes lat/lon/alt with x/y/z; use one form"},
+      {"nodes: []\n", "t.yaml:1: nodes: must list 1..250 nodes, got 0"},
+      {"name: x\n", "t.yaml:1: nodes: required"},
+      {"nodes: [{id: 1}]\nphy:\n  type: ofdm\n",
+       "t.yaml:3: phy.type: unknown 'ofdm' (known: gmsk)"},
+      {"nodes: [{id: 1}]\nchannel:\n  model: free_space\n",
+       "t.yaml:3: channel.model: unknown 'free_space' (known: paper)"},
+      {"nodes: [{id: 1}]\nchannel:\n  origin: {x: 1, y: 2}\n",
+       "t.yaml:3: channel.origin: must be a geodetic position {lat, lon, alt}"},
+      {"nodes: [{id: 1}]\nports:\n  bind: 300.1.2.3\n",
+       "t.yaml:3: ports.bind: expected an IPv4/IPv6 address or localhost, got '300.1.2.3'"},
+      {"nodes:\n  - id: 250\nports:\n  net_base: 64000\n",
+       "t.yaml:4: ports.net_base: port of node 250 would be 66500 (> 65535); must be <= 63035"},
+      {"nodes:\n  - id: 1\n  - id: 2\nports:\n  net_base: 15763\n  loc_base: 15753\n",
+       "t.yaml:6: ports.loc_base: location port of node 2 and net port of node 1 are both 15773"},
+      {"nodes: [{id: 1}, {id: 2}]\ntraffic:\n  - {src: 1, dst: 2}\n  - src: 3\n    dst: 1\n",
+       "t.yaml:4: traffic[1].src: node 3 is not in nodes"},
+      {"nodes: [{id: 1}, {id: 2}]\ntraffic:\n  - src: 1\n    dst: 9\n",
+       "t.yaml:4: traffic[0].dst: node 9 is not in nodes (255 = broadcast)"},
+      {"nodes: [{id: 1}, {id: 2}]\ntraffic:\n  - src: 1\n    dst: 1\n",
+       "t.yaml:4: traffic[0].dst: equals src (a half-duplex node cannot hear itself)"},
+      {"nodes: [{id: 1}, {id: 2}]\nphy: {max_payload_bytes: 64}\ntraffic:\n"
+       "  - src: 1\n    dst: 2\n    size_bytes: 65\n",
+       "t.yaml:6: traffic[0].size_bytes: must be in 1..64, got 65"},
+      {"nodes: [{id: 1}, {id: 2}]\ntraffic:\n  - src: 1\n", "t.yaml:3: traffic[0].dst: required"},
+  };
+  for (const auto& [yaml, expected] : cases) EXPECT_EQ(error_of(yaml), expected) << yaml;
+}
+
+TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\ntime:\n  mode: virtual\n  tick_sample: 500\n"),
+            "t.yaml:4: time.tick_sample: unknown key (allowed in time: mode, speed, "
+            "sample_rate_hz, tick_samples, duration_s)");
+  EXPECT_TRUE(contains(error_of("nodes: [{id: 1}]\nnode: []\n"),
+                       "t.yaml:2: node: unknown key (allowed at top level: name, seed,"));
+  EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    pos: {x: 0, y: 0}\n"),
+                       "t.yaml:3: nodes[0].pos: unknown key (allowed in nodes[0]: id, position)"));
+  EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    position: {lat: 1, lon: 2, altitude: 3}\n"),
+                       "t.yaml:3: nodes[0].position.altitude: unknown key"));
+}
+
+TEST(ParseScenario, DuplicateNodeIdNamesBothLines) {
+  EXPECT_EQ(error_of("nodes:\n  - id: 4\n  - id: 5\n  - id: 4\n"),
+            "t.yaml:4: nodes[2].id: duplicate id 4 (also nodes[0].id, line 2)");
+}
+
+TEST(ParseScenario, DuplicateYamlKeyIsAnError) {
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\nphy:\n  bandwidth_time: 0.3\n  bandwidth_time: 0.5\n"),
+            "t.yaml:4: phy.bandwidth_time: duplicate key (first at line 3)");
+}
+
+TEST(ParseScenario, BothNoiseKeysAreAnError) {
+  EXPECT_EQ(
+      error_of("nodes: [{id: 1}]\nchannel:\n  noise_variance: 1e-12\n  noise_power_db: -120\n"),
+      "t.yaml:4: channel.noise_power_db: conflicts with channel.noise_variance (line 3); "
+      "give only one");
+}
+
+TEST(ParseScenario, WrongTypeNamesTheKey) {
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\ntime:\n  tick_samples: lots\n"),
+            "t.yaml:3: time.tick_samples: expected an integer, got 'lots'");
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\ntime:\n  speed: \"2\"\n"),
+            "t.yaml:3: time.speed: expected a number, got the string \"2\"");
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\nchannel:\n  shared_noise: maybe\n"),
+            "t.yaml:3: channel.shared_noise: expected true or false, got 'maybe'");
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\nphy: [gmsk]\n"),
+            "t.yaml:2: phy: expected a mapping (key: value), got a list");
+  EXPECT_EQ(error_of("nodes: {id: 1}\n"), "t.yaml:1: nodes: expected a list, got a mapping");
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\nname: [a, b]\n"),
+            "t.yaml:2: name: expected a string, got a list");
+  EXPECT_EQ(error_of("- id: 1\n"), "t.yaml:1: (top level): expected a mapping, got a list");
+}
+
+TEST(ParseScenario, YamlSyntaxErrorReportsTheLine) {
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\nphy: {type: gmsk\nchannel: {}\n")
+                .rfind("t.yaml:4: YAML syntax: ", 0),
+            0U);
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\ntime:\n  speed: 1\n   mode: virtual\n")
+                .rfind("t.yaml:4: YAML syntax: ", 0),
+            0U);
+}
+
+TEST(ValidateScenario, AcceptsAStructBuiltScenario) {
+  Scenario s;
+  s.nodes = {{1, std::nullopt}, {2, LocalPosition{5, 0, 10}}};
+  s.traffic = {TrafficItem{}};
+  EXPECT_NO_THROW(validate_scenario(s));
+}
+
+TEST(ValidateScenario, ReportsWithSourceScenarioAndNoLine) {
+  Scenario s;
+  EXPECT_EQ(validation_error_of(s), "scenario: nodes: must list 1..250 nodes, got 0");
+  s.nodes = {{4, std::nullopt}, {4, std::nullopt}};
+  EXPECT_EQ(validation_error_of(s), "scenario: nodes[1].id: duplicate id 4 (also nodes[0].id)");
+  s.nodes = {{0, std::nullopt}};
+  EXPECT_EQ(validation_error_of(s), "scenario: nodes[0].id: must be in 1..250, got 0");
+  s.nodes = {{1, std::nullopt}};
+  s.phy.bandwidth_time = 1.0F;
+  EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: must be in (0, 1), got 1");
+  s.phy = PhyConfig{};
+  s.ports.loc_base = s.ports.net_base;  // node 1's two ports would be one
+  EXPECT_EQ(
+      validation_error_of(s),
+      "scenario: ports.loc_base: location port of node 1 and net port of node 1 are both 15773");
+  s.ports = PortConfig{};
+  s.timing.sample_rate_hz = std::nan("");
+  EXPECT_EQ(validation_error_of(s), "scenario: time.sample_rate_hz: must be > 0, got nan");
+  s.timing = TimingConfig{};
+  s.engine.threads = 257;
+  EXPECT_EQ(validation_error_of(s), "scenario: engine.threads: must be in 0..256, got 257");
+}
+
+TEST(LoadScenarioFile, UnreadableFileNamesPathAndReason) {
+  const std::string path = "/nonexistent/rfsitl/none.yaml";
+  try {
+    load_scenario_file(path);
+    FAIL() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_STREQ(e.what(),
+                 (path + ": cannot read scenario file: No such file or directory").c_str());
+  }
+}
+
+TEST(LoadScenarioFile, ErrorsNameThePath) {
+  const auto path = std::filesystem::temp_directory_path() / "rfsitl_scenario_loader_test.yaml";
+  std::ofstream(path) << "nodes:\n  - id: 1\nengine:\n  threads: 999\n";
+  try {
+    load_scenario_file(path.string());
+    FAIL() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path.string() + ":4: engine.threads: must be in 0..256, got 999");
+  }
+  std::filesystem::remove(path);
+}
+
+// ---- the shipped scenarios --------------------------------------------------------------
+
+const std::filesystem::path kScenarioDir = std::filesystem::path(RFSITL_SOURCE_DIR) / "scenarios";
+
+// WGS84 geodetic -> ECEF, written out here so the test does not lean on the channel module.
+std::array<double, 3> ecef(const GeodeticPosition& g) {
+  constexpr double kA = 6378137.0;
+  constexpr double kF = 1 / 298.257223563;
+  constexpr double kE2 = kF * (2 - kF);
+  const double lat = g.lat_deg * M_PI / 180;
+  const double lon = g.lon_deg * M_PI / 180;
+  const double n = kA / std::sqrt(1 - kE2 * std::sin(lat) * std::sin(lat));
+  return {(n + g.alt_m) * std::cos(lat) * std::cos(lon),
+          (n + g.alt_m) * std::cos(lat) * std::sin(lon), (n * (1 - kE2) + g.alt_m) * std::sin(lat)};
+}
+
+TEST(ShippedScenarios, EveryFileLoads) {
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kScenarioDir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++files;
+    EXPECT_NO_THROW(load_scenario_file(entry.path().string())) << entry.path();
+  }
+  EXPECT_GE(files, 2);
+}
+
+TEST(ShippedScenarios, DemosAreRealTimeOneMspsWithConsecutiveIds) {
+  for (const auto& [file, n] : {std::pair{"six_uav.yaml", 6U}, {"fifteen_uav.yaml", 15U}}) {
+    const Scenario s = load_scenario_file((kScenarioDir / file).string());
+    ASSERT_EQ(s.nodes.size(), n) << file;
+    for (unsigned i = 0; i < n; ++i) {
+      EXPECT_EQ(s.nodes[i].id, i + 1) << file;
+      ASSERT_TRUE(s.nodes[i].initial_position.has_value()) << file;
+      EXPECT_TRUE(std::holds_alternative<GeodeticPosition>(*s.nodes[i].initial_position)) << file;
+    }
+    EXPECT_EQ(s.timing.mode, TimeMode::kRealTime) << file;
+    EXPECT_EQ(s.timing.sample_rate_hz, 1e6) << file;
+    EXPECT_EQ(s.timing.tick_samples, 1000U) << file;
+  }
+}
+
+TEST(ShippedScenarios, EveryLinkIsWellAbove20dB) {
+  for (const char* file : {"six_uav.yaml", "fifteen_uav.yaml"}) {
+    const Scenario s = load_scenario_file((kScenarioDir / file).string());
+    double worst_db = INFINITY;
+    for (const auto& a : s.nodes) {
+      for (const auto& b : s.nodes) {
+        const auto pa = ecef(std::get<GeodeticPosition>(*a.initial_position));
+        const auto pb = ecef(std::get<GeodeticPosition>(*b.initial_position));
+        const double d = std::hypot(pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]);
+        EXPECT_TRUE(a.id == b.id || d >= 2.0) << file << ": nodes " << +a.id << ", " << +b.id;
+        const double snr_db = -20 * s.channel.path_loss_exponent * std::log10(d + 1) -
+                              10 * std::log10(s.channel.noise_variance);
+        worst_db = std::min(worst_db, snr_db);
+      }
+    }
+    EXPECT_GE(worst_db, 35.0) << file;
+  }
+}
+
+}  // namespace
+}  // namespace rfsitl::scenario
