@@ -38,6 +38,13 @@ std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t stream) {
   return z ^ (z >> 31);
 }
 
+/// A frame waiting in a node's TX queue. It may start at the first tick that
+/// begins at or after `not_before`, the virtual time at which it arrived.
+struct QueuedFrame {
+  NetFrame frame;
+  SampleTime not_before = 0;
+};
+
 /// One decode reported by a receiver during the RX phase, handled afterwards.
 struct Decoded {
   phy::FrameTag tag;
@@ -48,13 +55,13 @@ struct Decoded {
 struct Node : phy::RxHandler {
   NodeId id = 0;
   std::unique_ptr<phy::Transceiver> radio;
-  std::unique_ptr<SpscRing<NetFrame>> queue;  // from the I/O thread
-  std::deque<NetFrame> injected;              // scenario traffic, engine thread only
-  std::vector<cf32> tx;                       // this tick's TX samples
-  std::vector<cf32> rx;                       // this tick's RX samples
-  bool active = false;                        // tx carries signal this tick
-  std::size_t tx_samples = 0;                 // leading samples of tx that carry signal
-  bool receiver_blanked = false;              // T/R switch on transmit since last tick
+  std::unique_ptr<SpscRing<QueuedFrame>> queue;  // from the I/O thread
+  std::deque<NetFrame> injected;                 // scenario traffic, engine thread only
+  std::vector<cf32> tx;                          // this tick's TX samples
+  std::vector<cf32> rx;                          // this tick's RX samples
+  bool active = false;                           // tx carries signal this tick
+  std::size_t tx_samples = 0;                    // leading samples of tx that carry signal
+  bool receiver_blanked = false;                 // T/R switch on transmit since last tick
   std::uint32_t frames_started = 0;
   // Set by the TX phase when a frame starts this tick; consumed serially.
   std::optional<std::pair<std::uint32_t, NetFrame>> started;
@@ -91,7 +98,7 @@ class LockStepEngine final : public Engine {
       node.id = s.nodes[i].id;
       ids_.push_back(node.id);
       node.radio = phy::make_transceiver(s.phy);
-      node.queue = std::make_unique<SpscRing<NetFrame>>(s.phy.tx_queue_frames);
+      node.queue = std::make_unique<SpscRing<QueuedFrame>>(s.phy.tx_queue_frames);
       node.tx.assign(block_, cf32{});
       node.rx.assign(block_, cf32{});
       node.mix_inputs.reserve(n);
@@ -128,7 +135,8 @@ class LockStepEngine final : public Engine {
   bool submit(std::size_t node, NetFrame&& frame) override {
     NodeCounters& c = counters_[node];
     NodeCounters::bump(c.handed_in);
-    if (!nodes_[node].queue->try_push(frame)) {
+    QueuedFrame item{std::move(frame), clock_.wall_now_samples()};
+    if (!nodes_[node].queue->try_push(item)) {
       NodeCounters::bump(c.queue_dropped);
       return false;
     }
@@ -151,6 +159,7 @@ class LockStepEngine final : public Engine {
   void run(const std::atomic<bool>& stop) override {
     const auto duration =
         static_cast<SampleTime>(scenario_.timing.duration_s * scenario_.timing.sample_rate_hz);
+    clock_.start();
     for (std::uint64_t k = 0; !stop.load(std::memory_order_relaxed); ++k) {
       if (duration > 0 && now_ >= duration) break;
       clock_.wait_for_tick(k);
@@ -185,10 +194,10 @@ class LockStepEngine final : public Engine {
                      [](const auto& a, const auto& b) { return a.at < b.at; });
   }
 
-  /// Scenario traffic due before the end of this tick enters its node's queue.
+  /// Scenario traffic enters its node's queue at the first tick boundary at or
+  /// after its scheduled time.
   void inject_traffic() {
-    const SampleTime tick_end = now_ + block_;
-    while (next_traffic_ < traffic_.size() && traffic_[next_traffic_].at < tick_end) {
+    while (next_traffic_ < traffic_.size() && traffic_[next_traffic_].at <= now_) {
       const auto& t = traffic_[next_traffic_++];
       const auto node = index_of(t.src);
       if (!node) continue;  // validated scenarios name only known sources
@@ -237,8 +246,8 @@ class LockStepEngine final : public Engine {
       if (!node.injected.empty()) {
         next = std::move(node.injected.front());
         node.injected.pop_front();
-      } else {
-        next = node.queue->try_pop();
+      } else if (const QueuedFrame* head = node.queue->peek(); head && head->not_before <= now_) {
+        next = std::move(node.queue->try_pop()->frame);
       }
       if (next) {
         const std::uint32_t serial =

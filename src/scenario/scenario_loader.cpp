@@ -332,27 +332,28 @@ class Section {
  public:
   Section(Context& c, const Entry& at) : c_(c), at_(at) {
     if (!at || at.value.IsNull()) return;  // absent, or `key:` with nothing: all defaults
-    if (!at.value.IsMap())
+    if (!at.value.IsMap()) {
       c.fail(at.key, "expected a mapping (key: value), got " + kind_of(at.value));
+    }
     std::map<std::string, int, std::less<>> seen;
     for (const auto& kv : at.value) {
+      if (!kv.first.IsScalar()) c.fail(at.key, "keys must be plain names");
       const std::string key = child(kv.first.Scalar());
-      if (!kv.first.IsScalar()) fail_at(kv.first, at.key, "keys must be plain names");
-      if (const auto [it, fresh] = seen.emplace(kv.first.Scalar(), line_of(kv.first)); !fresh) {
-        fail_at(kv.first, key, "duplicate key (first at line " + std::to_string(it->second) + ")");
-      }
+      // The key's line, also for its value's errors: yaml-cpp marks an empty value at
+      // the next token, which may be lines further down.
+      const auto [it, fresh] = seen.emplace(key, line_of(kv.first));
+      c.record(key, line_of(kv.first));
+      if (!fresh) c.fail(key, "duplicate key (first at line " + std::to_string(it->second) + ")");
     }
     map_ = at.value;
   }
 
-  // The value under `leaf`, its line recorded for error messages.
+  // The value under `leaf`; undefined when absent.
   Entry take(std::string_view leaf) {
     known_.push_back(leaf);
     Entry e{YAML::Node(YAML::NodeType::Undefined), child(leaf)};
     for (const auto& kv : map_) {
-      if (kv.first.Scalar() != leaf) continue;
-      e.value = kv.second;
-      c_.record(e.key, line_of(kv.first));  // the key's line: an empty value marks the next token
+      if (kv.first.Scalar() == leaf) e.value = kv.second;
     }
     return e;
   }
@@ -380,20 +381,15 @@ class Section {
   void finish() const {
     for (const auto& kv : map_) {
       if (is_one_of(kv.first.Scalar(), known_)) continue;
-      fail_at(kv.first, child(kv.first.Scalar()),
-              "unknown key (allowed " + (at_.key.empty() ? "at top level" : "in " + at_.key) +
-                  ": " + join(known_) + ")");
+      c_.fail(child(kv.first.Scalar()), "unknown key (allowed " +
+                                            (at_.key.empty() ? "at top level" : "in " + at_.key) +
+                                            ": " + join(known_) + ")");
     }
   }
 
  private:
   std::string child(std::string_view leaf) const {
     return at_.key.empty() ? std::string(leaf) : at_.key + "." + std::string(leaf);
-  }
-  [[noreturn]] void fail_at(const YAML::Node& n, const std::string& key,
-                            std::string_view why) const {
-    c_.record(key, line_of(n));
-    c_.fail(key, why);
   }
 
   Context& c_;
@@ -456,8 +452,7 @@ void read_time(Context& c, const Entry& at, TimingConfig& t) {
   Section sec(c, at);
   if (const Entry mode = sec.take("mode")) {
     const std::string m = text(c, mode);
-    if (!is_one_of(m, kTimeModes))
-      c.fail(mode.key, "must be " + join(kTimeModes) + ", got '" + m + "'");
+    c.check_name(m, mode.key, kTimeModes);
     t.mode = m == "virtual" ? TimeMode::kVirtual : TimeMode::kRealTime;
   }
   sec.get("speed", t.speed);

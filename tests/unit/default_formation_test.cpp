@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <variant>
@@ -32,7 +33,7 @@ double longest_link_m(const std::vector<NodeConfig>& nodes) {
 }
 
 double shortest_link_m(const std::vector<NodeConfig>& nodes) {
-  double shortest = INFINITY;
+  double shortest = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     for (std::size_t j = i + 1; j < nodes.size(); ++j) {
       shortest = std::min(shortest, distance_m(nodes[i], nodes[j]));

@@ -7,6 +7,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
 #include <string>
 #include <variant>
 
@@ -211,7 +214,7 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
        "t.yaml:3: time.speed: expected a number, got nothing"},  // the key's line, not the next
       {"nodes: [{id: 1}]\ntime:\n  speed: -1\n", "t.yaml:3: time.speed: must be > 0, got -1"},
       {"nodes: [{id: 1}]\ntime:\n  mode: fast\n",
-       "t.yaml:3: time.mode: must be realtime, virtual, got 'fast'"},
+       "t.yaml:3: time.mode: unknown 'fast' (known: realtime, virtual)"},
       {"nodes:\n  - id: 1\n  - id: 251\n", "t.yaml:3: nodes[1].id: must be in 1..250, got 251"},
       {"nodes:\n  - position: {x: 0, y: 0}\n", "t.yaml:2: nodes[0].id: required"},
       {"nodes:\n  - id: 1\n    position:\n      lat: 91\n      lon: 0\n",
@@ -364,8 +367,8 @@ std::array<double, 3> ecef(const GeodeticPosition& g) {
   constexpr double kA = 6378137.0;
   constexpr double kF = 1 / 298.257223563;
   constexpr double kE2 = kF * (2 - kF);
-  const double lat = g.lat_deg * M_PI / 180;
-  const double lon = g.lon_deg * M_PI / 180;
+  const double lat = g.lat_deg * std::numbers::pi / 180;
+  const double lon = g.lon_deg * std::numbers::pi / 180;
   const double n = kA / std::sqrt(1 - kE2 * std::sin(lat) * std::sin(lat));
   return {(n + g.alt_m) * std::cos(lat) * std::cos(lon),
           (n + g.alt_m) * std::cos(lat) * std::sin(lon), (n * (1 - kE2) + g.alt_m) * std::sin(lat)};
@@ -379,6 +382,19 @@ TEST(ShippedScenarios, EveryFileLoads) {
     EXPECT_NO_THROW(load_scenario_file(entry.path().string())) << entry.path();
   }
   EXPECT_GE(files, 2);
+}
+
+TEST(ShippedScenarios, ReadmeExampleParses) {
+  std::ifstream in(kScenarioDir / "README.md");
+  std::stringstream readme;
+  readme << in.rdbuf();
+  const std::string text = readme.str();
+  const auto begin = text.find("```yaml\n");
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = text.find("```", begin + 8);
+  const Scenario s = parse_scenario(text.substr(begin + 8, end - begin - 8), "README.md");
+  EXPECT_EQ(s.nodes.size(), 3U);
+  EXPECT_EQ(s.traffic.size(), 1U);
 }
 
 TEST(ShippedScenarios, DemosAreRealTimeOneMspsWithConsecutiveIds) {
@@ -399,7 +415,7 @@ TEST(ShippedScenarios, DemosAreRealTimeOneMspsWithConsecutiveIds) {
 TEST(ShippedScenarios, EveryLinkIsWellAbove20dB) {
   for (const char* file : {"six_uav.yaml", "fifteen_uav.yaml"}) {
     const Scenario s = load_scenario_file((kScenarioDir / file).string());
-    double worst_db = INFINITY;
+    double worst_db = std::numeric_limits<double>::infinity();
     for (const auto& a : s.nodes) {
       for (const auto& b : s.nodes) {
         const auto pa = ecef(std::get<GeodeticPosition>(*a.initial_position));

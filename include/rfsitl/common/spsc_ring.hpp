@@ -26,6 +26,13 @@ class SpscRing {
     return true;
   }
 
+  /// Consumer side: the oldest item, or nullptr when empty. Valid until try_pop().
+  T* peek() {
+    const std::size_t tail = tail_.load(std::memory_order_relaxed);
+    if (tail == head_.load(std::memory_order_acquire)) return nullptr;
+    return &slots_[tail];
+  }
+
   /// Consumer side.
   std::optional<T> try_pop() {
     const std::size_t tail = tail_.load(std::memory_order_relaxed);

@@ -1,0 +1,89 @@
+"""(e) Every loss and drop is counted with its reason; bad scenarios and busy
+ports give clear errors instead of crashes."""
+
+import os
+import socket
+import subprocess
+import tempfile
+import time
+import unittest
+
+from harness import BIN, Emulator, LOSS_REASONS, assert_accounted, pick_port_bases
+
+
+class AccountingTest(unittest.TestCase):
+    def test_full_tx_queue_drops_are_counted_and_books_balance(self):
+        extra = "phy:\n  tx_queue_frames: 4\n"
+        with Emulator({1: (0, 0, 10), 2: (6, 0, 10)}, extra_yaml=extra) as emu:
+            a1, a2 = emu.agent(1), emu.agent(2)
+            burst = b"".join(bytes([1, 2]) + bytes([i]) * 200 + b"\r\r\n\n" for i in range(40))
+            a1.send_raw(burst)
+            delivered = a2.receive(40, timeout=3.0)
+            time.sleep(0.2)
+            summary = emu.stop()
+        n1 = emu.node(1)
+        self.assertEqual(n1["handed_in"], 40)
+        self.assertGreater(n1["queue_dropped"], 0)
+        self.assertEqual(n1["delivered"], len(delivered))
+        self.assertEqual(n1["delivered"] + n1["queue_dropped"] + sum(n1["lost"].values()), 40)
+        assert_accounted(self, summary)
+
+    def test_frame_to_unknown_node_is_lost_as_unknown_destination(self):
+        with Emulator({1: (0, 0, 10), 2: (6, 0, 10)}) as emu:
+            emu.agent(1).send(1, 77, b"nobody")
+            time.sleep(0.3)
+            summary = emu.stop()
+        self.assertEqual(emu.node(1)["lost"]["unknown_destination"], 1)
+        self.assertEqual(set(emu.node(1)["lost"]), set(LOSS_REASONS))
+        assert_accounted(self, summary)
+
+    def test_node_without_position_hears_nothing(self):
+        with Emulator({1: (0, 0, 10), 2: None}) as emu:
+            a1, a2 = emu.agent(1), emu.agent(2)
+            a1.send(1, 2, b"into the void")
+            self.assertEqual(a2.receive(1, timeout=0.5), [])
+            summary = emu.stop()
+        self.assertEqual(emu.node(1)["lost"]["below_sensitivity"], 1)
+        assert_accounted(self, summary)
+
+
+class ErrorTest(unittest.TestCase):
+    def run_cli(self, *args):
+        return subprocess.run([BIN, *args], capture_output=True, text=True, timeout=60)
+
+    def test_port_in_use_names_the_port_and_node(self):
+        net_base, loc_base = pick_port_bases([1, 2])
+        blocker = socket.socket()
+        blocker.bind(("127.0.0.1", net_base + 20))
+        blocker.listen()
+        try:
+            r = self.run_cli("run", "--nodes", "2", "--net-base", str(net_base),
+                             "--loc-base", str(loc_base), "--stats-interval", "0")
+        finally:
+            blocker.close()
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn(f"net port {net_base + 20} of node 2", r.stderr)
+        self.assertIn("in use", r.stderr)
+
+    def test_bad_scenario_names_file_line_and_key(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "bad.yaml")
+            with open(path, "w") as f:
+                f.write("name: bad\nnodes:\n  - id: 1\nphy:\n  bandwidth_time: 1.5\n")
+            r = self.run_cli("run", path)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("bad.yaml:5", r.stderr)
+        self.assertIn("phy.bandwidth_time", r.stderr)
+
+    def test_unknown_flag_is_an_error_and_help_works(self):
+        r = self.run_cli("run", "--no-such-flag")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("--no-such-flag", r.stderr + r.stdout)
+        for cmd in ("run", "ping"):
+            h = self.run_cli(cmd, "--help")
+            self.assertEqual(h.returncode, 0)
+            self.assertIn("--net-base", h.stdout)
+
+
+if __name__ == "__main__":
+    unittest.main()

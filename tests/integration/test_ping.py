@@ -1,0 +1,49 @@
+"""The ping tool (the paper's COM manager) against the real emulator: its last
+line has the contract format and its figures agree with its CSV."""
+
+import csv
+import os
+import re
+import statistics
+import subprocess
+import tempfile
+import unittest
+
+from harness import BIN, Emulator, assert_accounted
+
+LAST_LINE = re.compile(
+    r"^rtt_ms mean=(\S+) p10=(\S+) p50=(\S+) p90=(\S+) lost=(\d+)/(\d+)$")
+
+
+class PingTest(unittest.TestCase):
+    def test_ping_reports_rtts_consistent_with_its_csv(self):
+        with Emulator({1: (0, 0, 10), 2: (5, 0, 10), 3: (0, 5, 10)}) as emu, \
+                tempfile.TemporaryDirectory() as d:
+            csv_path = os.path.join(d, "rtt.csv")
+            r = subprocess.run(
+                [BIN, "ping", "--src", "1", "--dst", "3", "--count", "20",
+                 "--net-base", str(emu.net_base), "--csv", csv_path],
+                capture_output=True, text=True, timeout=120)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            last = r.stdout.strip().splitlines()[-1]
+            m = LAST_LINE.match(last)
+            self.assertIsNotNone(m, last)
+            with open(csv_path) as f:
+                rows = list(csv.DictReader(f))
+            summary = emu.stop()
+        self.assertEqual(len(rows), 20)
+        rtts = [float(row["rtt_ms"]) for row in rows if row["status"] == "ok"]
+        self.assertEqual(int(m.group(5)), 20 - len(rtts))
+        self.assertEqual(int(m.group(6)), 20)
+        self.assertGreaterEqual(len(rtts), 18, "in range and alone on the air: nearly all arrive")
+        self.assertAlmostEqual(float(m.group(1)), statistics.mean(rtts), delta=0.01)
+        self.assertAlmostEqual(float(m.group(3)), statistics.median(rtts), delta=0.01)
+        # An 80-byte frame and an 8-byte ack take 2.64 ms on the air at 1 Msps.
+        self.assertGreater(min(rtts), 2.6)
+        # Node 3 answered every ping it heard; node 1 sent every one.
+        self.assertEqual(emu.node(1)["handed_in"], 20)
+        assert_accounted(self, summary)
+
+
+if __name__ == "__main__":
+    unittest.main()
