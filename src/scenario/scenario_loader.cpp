@@ -6,6 +6,8 @@
 // naming lines through the key -> line table that reading fills in.
 #include "rfsitl/scenario/scenario_loader.hpp"
 
+#include "rfsitl/phy/phy_registry.hpp"
+
 #include <arpa/inet.h>
 #include <yaml-cpp/yaml.h>
 
@@ -91,8 +93,6 @@ constexpr RealLimit kAltitude{-1000, 100000};  // the location feed's bounds, so
 constexpr RealLimit kNoisePowerDb{-300, 300};  // keeps 10^(dB/10) a normal, non-zero double
 
 constexpr std::array<std::string_view, 2> kTimeModes{"realtime", "virtual"};
-// The scenario library does not link the PHY registry; keep this in step with it.
-constexpr std::array<std::string_view, 1> kPhyTypes{"gmsk"};
 constexpr std::array<std::string_view, 1> kChannelModels{"paper"};
 
 template <typename Names>
@@ -229,7 +229,7 @@ void validate(const Scenario& s, const Context& c) {
     max_id = std::max<unsigned>(max_id, id);
     if (const auto& p = s.nodes[i].initial_position) check_position(c, *p, key + ".position");
   }
-  c.check_name(s.phy.type, "phy.type", kPhyTypes);
+  c.check_name(s.phy.type, "phy.type", phy::known_phy_types());
   c.check(s.phy.samples_per_symbol, "phy.samples_per_symbol", kSamplesPerSymbol);
   c.check(s.phy.bandwidth_time, "phy.bandwidth_time", kBandwidthTime);
   c.check(s.phy.filter_delay_symbols, "phy.filter_delay_symbols", kFilterDelay);

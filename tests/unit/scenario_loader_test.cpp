@@ -3,6 +3,7 @@
 #include "rfsitl/scenario/scenario_loader.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -346,7 +347,8 @@ TEST(LoadScenarioFile, UnreadableFileNamesPathAndReason) {
 }
 
 TEST(LoadScenarioFile, ErrorsNameThePath) {
-  const auto path = std::filesystem::temp_directory_path() / "rfsitl_scenario_loader_test.yaml";
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("rfsitl_scenario_loader_test_" + std::to_string(getpid()) + ".yaml");
   std::ofstream(path) << "nodes:\n  - id: 1\nengine:\n  threads: 999\n";
   try {
     load_scenario_file(path.string());
