@@ -260,7 +260,9 @@ std::function<int()> add_run_command(CLI::App& parent) {
       parent.add_subcommand("run", "Run the emulator: one net port and one location port per node");
   cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--nodes", opts->nodes, "Number of nodes in the default formation (1..250)")
+  cmd->add_option(
+         "--nodes", opts->nodes,
+         "Nodes in the default formation where every link decodes (1..250; 6 without a scenario)")
       ->check(CLI::Range(1, 250));
   cmd->add_option("--net-base", opts->net_base, "Net port base: node n listens on base + 10 n");
   cmd->add_option("--loc-base", opts->loc_base, "Location port base: base + 10 n");

@@ -70,7 +70,7 @@ struct Node : phy::RxHandler {
   std::vector<const cf32*> mix_inputs;
   std::vector<cf32> mix_coeffs;
   std::vector<Decoded> decoded;
-  bool skipped = false;
+  enum class RxTick { kRan, kSkipped, kBlanked } rx_tick = RxTick::kRan;
 
   void on_rx(const phy::RxEvent& ev) override {
     if (!ev.header_valid) return;
@@ -280,6 +280,7 @@ class LockStepEngine final : public Engine {
   /// restarts (reset_receiver) at the first sample after its transmission. Any
   /// frame that overlaps the node's own transmission is therefore lost.
   std::size_t first_receive_sample(const Node& node) const { return node.tx_samples; }
+  bool blanked_whole_tick(const Node& node) const { return node.tx_samples >= block_; }
 
   /// Skipping silence, exact condition: receiver m runs in a tick iff some sample
   /// is left after its own transmission and (it is inside a frame, or it has just
@@ -288,7 +289,7 @@ class LockStepEngine final : public Engine {
   /// anything. skip_idle_receivers = false runs every receiver every tick.
   bool receiver_must_run(std::size_t m) const {
     const Node& node = nodes_[m];
-    if (first_receive_sample(node) >= block_) return false;  // blanked the whole tick
+    if (blanked_whole_tick(node)) return false;
     if (!scenario_.engine.skip_idle_receivers) return true;
     if (node.receiver_blanked || node.radio->rx_busy()) return true;
     for (std::size_t n = 0; n < nodes_.size(); ++n) {
@@ -308,9 +309,12 @@ class LockStepEngine final : public Engine {
   /// samples after its own transmission, then decode.
   void rx_phase(std::size_t m) {
     Node& node = nodes_[m];
-    node.skipped = !receiver_must_run(m);
     if (node.tx_samples > 0) node.receiver_blanked = true;
-    if (node.skipped) return;
+    if (!receiver_must_run(m)) {
+      node.rx_tick = blanked_whole_tick(node) ? Node::RxTick::kBlanked : Node::RxTick::kSkipped;
+      return;
+    }
+    node.rx_tick = Node::RxTick::kRan;
     if (node.receiver_blanked) {
       node.radio->reset_receiver();
       node.receiver_blanked = false;
@@ -340,11 +344,8 @@ class LockStepEngine final : public Engine {
   void handle_decodes() {
     for (std::size_t m = 0; m < nodes_.size(); ++m) {
       Node& node = nodes_[m];
-      if (node.skipped) {
-        ++skipped_ticks_;
-      } else {
-        ++run_ticks_;
-      }
+      if (node.rx_tick == Node::RxTick::kSkipped) ++skipped_ticks_;
+      if (node.rx_tick == Node::RxTick::kRan) ++run_ticks_;
       for (Decoded& d : node.decoded) {
         if (!d.payload_valid) {
           NodeCounters::bump(counters_[m].rx_crc_failures);
