@@ -138,6 +138,7 @@ nlohmann::json summary_json(const scenario::Scenario& s, engine::Engine& e) {
   j["late_decodes"] = st.late_decodes;
   j["receiver_ticks_run"] = st.receiver_ticks_run;
   j["receiver_ticks_skipped"] = st.receiver_ticks_skipped;
+  j["receiver_ticks_blanked"] = st.receiver_ticks_blanked;
   for (std::size_t i = 0; i < e.num_nodes(); ++i) {
     const auto c = e.counters(i).snapshot();
     nlohmann::json n;

@@ -346,6 +346,7 @@ class LockStepEngine final : public Engine {
       Node& node = nodes_[m];
       if (node.rx_tick == Node::RxTick::kSkipped) ++skipped_ticks_;
       if (node.rx_tick == Node::RxTick::kRan) ++run_ticks_;
+      if (node.rx_tick == Node::RxTick::kBlanked) ++blanked_ticks_;
       for (Decoded& d : node.decoded) {
         if (!d.payload_valid) {
           NodeCounters::bump(counters_[m].rx_crc_failures);
@@ -369,6 +370,7 @@ class LockStepEngine final : public Engine {
     status_.late_decodes = ledger_->late_decodes();
     status_.receiver_ticks_run = run_ticks_;
     status_.receiver_ticks_skipped = skipped_ticks_;
+    status_.receiver_ticks_blanked = blanked_ticks_;
   }
 
   struct ScheduledFrame {
@@ -397,6 +399,7 @@ class LockStepEngine final : public Engine {
   SampleTime now_ = 0;
   std::uint64_t run_ticks_ = 0;
   std::uint64_t skipped_ticks_ = 0;
+  std::uint64_t blanked_ticks_ = 0;
 
   std::mutex positions_mutex_;
   std::vector<std::optional<std::optional<Ecef>>> pending_positions_;

@@ -5,6 +5,7 @@
 #include <array>
 #include <boost/asio.hpp>
 #include <deque>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -30,18 +31,16 @@ bool should_log(std::uint64_t count) {
   return count <= 20 || count % 1000 == 0;
 }
 
-/// One agent connection on a net port: frames in, decoded frames out.
-class NetSession : public std::enable_shared_from_this<NetSession> {
+/// A client connection on one node's port. It reads until the peer closes and
+/// hands every chunk to consume(); pending handlers share its ownership.
+class PortSession : public std::enable_shared_from_this<PortSession> {
  public:
-  NetSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
-             engine::Engine& engine)
-      : socket_(std::move(socket)),
-        node_(node),
-        id_(id),
-        port_(port),
-        engine_(engine),
-        parser_(engine.max_payload()),
-        buf_(kReadChunk) {}
+  PortSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
+              engine::Engine& engine)
+      : socket_(std::move(socket)), node_(node), id_(id), port_(port), engine_(engine) {}
+  virtual ~PortSession() = default;
+  PortSession(const PortSession&) = delete;
+  PortSession& operator=(const PortSession&) = delete;
 
   void start() { read(); }
 
@@ -53,14 +52,14 @@ class NetSession : public std::enable_shared_from_this<NetSession> {
 
   bool open() const { return socket_.is_open(); }
 
-  /// Queues a frame for the agent; false when the backlog is full.
-  bool send(const NetFrame& frame) {
-    if (backlog_bytes_ > kMaxWriteBacklogBytes) return false;
-    writes_.push_back(encode_net_frame(frame));
-    backlog_bytes_ += writes_.back().size();
-    if (writes_.size() == 1) write_next();
-    return true;
-  }
+ protected:
+  virtual void consume(std::span<const std::uint8_t> bytes) = 0;
+
+  tcp::socket socket_;
+  std::size_t node_;
+  NodeId id_;
+  std::uint16_t port_;
+  engine::Engine& engine_;
 
  private:
   void read() {
@@ -71,15 +70,35 @@ class NetSession : public std::enable_shared_from_this<NetSession> {
             self->close();
             return;
           }
-          self->consume(n);
+          self->consume({self->buf_.data(), n});
           self->read();
         });
   }
 
-  void consume(std::size_t n) {
+  std::vector<std::uint8_t> buf_ = std::vector<std::uint8_t>(kReadChunk);
+};
+
+/// One agent connection on a net port: frames in, decoded frames out.
+class NetSession final : public PortSession {
+ public:
+  NetSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
+             engine::Engine& engine)
+      : PortSession(std::move(socket), node, id, port, engine), parser_(engine.max_payload()) {}
+
+  /// Queues a frame for the agent; false when the backlog is full.
+  bool send(const NetFrame& frame) {
+    if (backlog_bytes_ > kMaxWriteBacklogBytes) return false;
+    writes_.push_back(encode_net_frame(frame));
+    backlog_bytes_ += writes_.back().size();
+    if (writes_.size() == 1) write_next();
+    return true;
+  }
+
+ private:
+  void consume(std::span<const std::uint8_t> bytes) override {
     frames_.clear();
     errors_.clear();
-    parser_.feed({buf_.data(), n}, frames_, errors_);
+    parser_.feed(bytes, frames_, errors_);
     engine::NodeCounters& c = engine_.counters(node_);
     for (const FramingError& e : errors_) {
       engine::NodeCounters::bump(c.framing_errors);
@@ -95,28 +114,22 @@ class NetSession : public std::enable_shared_from_this<NetSession> {
   }
 
   void write_next() {
-    asio::async_write(
-        socket_, asio::buffer(writes_.front()),
-        [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
-          self->backlog_bytes_ -= self->writes_.front().size();
-          self->writes_.pop_front();
-          if (ec) {
-            self->close();
-            self->writes_.clear();
-            self->backlog_bytes_ = 0;
-            return;
-          }
-          if (!self->writes_.empty()) self->write_next();
-        });
+    asio::async_write(socket_, asio::buffer(writes_.front()),
+                      [self = std::static_pointer_cast<NetSession>(shared_from_this())](
+                          const boost::system::error_code& ec, std::size_t) {
+                        self->backlog_bytes_ -= self->writes_.front().size();
+                        self->writes_.pop_front();
+                        if (ec) {
+                          self->close();
+                          self->writes_.clear();
+                          self->backlog_bytes_ = 0;
+                          return;
+                        }
+                        if (!self->writes_.empty()) self->write_next();
+                      });
   }
 
-  tcp::socket socket_;
-  std::size_t node_;
-  NodeId id_;
-  std::uint16_t port_;
-  engine::Engine& engine_;
   NetFrameParser parser_;
-  std::vector<std::uint8_t> buf_;
   std::vector<NetFrame> frames_;
   std::vector<FramingError> errors_;
   std::deque<std::vector<std::uint8_t>> writes_;
@@ -124,41 +137,16 @@ class NetSession : public std::enable_shared_from_this<NetSession> {
 };
 
 /// One location feed: lines in, positions to the engine.
-class LocationSession : public std::enable_shared_from_this<LocationSession> {
+class LocationSession final : public PortSession {
  public:
   LocationSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
                   engine::Engine& engine, const GeodeticPosition& origin)
-      : socket_(std::move(socket)),
-        node_(node),
-        id_(id),
-        port_(port),
-        engine_(engine),
-        origin_(origin) {}
-
-  void start() { read(); }
-
-  void close() {
-    boost::system::error_code ignored;
-    socket_.close(ignored);
-  }
+      : PortSession(std::move(socket), node, id, port, engine), origin_(origin) {}
 
  private:
-  void read() {
-    socket_.async_read_some(
-        asio::buffer(chunk_),
-        [self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
-          if (ec) {
-            self->close();
-            return;
-          }
-          self->consume(n);
-          self->read();
-        });
-  }
-
-  void consume(std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const char ch = chunk_[i];
+  void consume(std::span<const std::uint8_t> bytes) override {
+    for (const std::uint8_t byte : bytes) {
+      const auto ch = static_cast<char>(byte);
       if (ch != '\n') {
         if (line_.size() < kMaxLocationLine) {
           line_.push_back(ch);
@@ -198,13 +186,7 @@ class LocationSession : public std::enable_shared_from_this<LocationSession> {
     }
   }
 
-  tcp::socket socket_;
-  std::size_t node_;
-  NodeId id_;
-  std::uint16_t port_;
-  engine::Engine& engine_;
   GeodeticPosition origin_;
-  std::array<char, 4096> chunk_{};
   std::string line_;
   bool overlong_ = false;
   std::uint64_t line_number_ = 0;

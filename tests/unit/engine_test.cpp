@@ -185,7 +185,9 @@ TEST(Engine, SkippingIdleReceiversChangesNoDeliveryOrCounter) {
     EXPECT_GT(on.status.receiver_ticks_skipped, 0U);
     EXPECT_LT(on.status.receiver_ticks_run, off.status.receiver_ticks_run);
     for (const RunResult* r : {&on, &off}) {
-      EXPECT_EQ(r->status.receiver_ticks_run + r->status.receiver_ticks_skipped, 3U * 40U);
+      EXPECT_EQ(r->status.receiver_ticks_run + r->status.receiver_ticks_skipped +
+                    r->status.receiver_ticks_blanked,
+                3U * 40U);
     }
   }
 }

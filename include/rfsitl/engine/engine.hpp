@@ -34,7 +34,7 @@ struct EngineStatus {
   std::uint64_t late_decodes = 0;        ///< decodes after their verdict was due (not delivered)
   std::uint64_t receiver_ticks_run = 0;  ///< receiver-ticks processed
   std::uint64_t receiver_ticks_skipped = 0;  ///< receiver-ticks skipped as silent
-  ///< (ticks a receiver spends wholly blanked by its own transmission are neither)
+  std::uint64_t receiver_ticks_blanked = 0;  ///< receiver-ticks wholly blanked by own TX
 };
 
 class Engine {
