@@ -46,5 +46,6 @@ kill -INT "$EMU"
 wait "$EMU" || true
 trap - EXIT
 sed -n '/rfsitl summary/,$p' "$OUT/emulator.log"
-/usr/bin/python3 scripts/plot_rtt.py "$OUT"/rtt_*.csv -o "$OUT/rtt_cdf.png"
+# Air-time floor at 1 Msps, k = 2: an 80-byte frame (1898 samples) + an 8-byte ack (746).
+/usr/bin/python3 scripts/plot_rtt.py "$OUT"/rtt_*.csv -o "$OUT/rtt_cdf.png" --floor-ms 2.644
 echo "demo: emulator log $OUT/emulator.log, counters $OUT/summary.json"

@@ -24,6 +24,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("csv", nargs="+")
     ap.add_argument("-o", "--output", required=True)
+    ap.add_argument("--floor-ms", type=float, default=0.0,
+                    help="draw the air-time floor (frame + acknowledgement) at this RTT")
     ap.add_argument("--title", default="rfsitl: round-trip time of 80-byte GMSK packets")
     args = ap.parse_args()
 
@@ -35,7 +37,11 @@ def main():
         label = os.path.splitext(os.path.basename(path))[0].replace("rtt_", "").replace("_", " -> ")
         ys = [(i + 1) / len(rtts) for i in range(len(rtts))]
         ax.step(rtts, ys, where="post", label=f"{label} (mean {sum(rtts) / len(rtts):.2f} ms)")
+    if args.floor_ms > 0:
+        ax.axvline(args.floor_ms, color="k", linestyle="--", linewidth=1,
+                   label=f"air-time floor {args.floor_ms:.2f} ms")
     ax.set_xlabel("round-trip time [ms]")
+    ax.set_xlim(left=0)
     ax.set_ylabel("empirical CDF")
     ax.set_title(args.title)
     ax.grid(True, alpha=0.3)

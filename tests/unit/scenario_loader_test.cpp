@@ -410,7 +410,7 @@ TEST(ShippedScenarios, DemosAreRealTimeOneMspsWithConsecutiveIds) {
     }
     EXPECT_EQ(s.timing.mode, TimeMode::kRealTime) << file;
     EXPECT_EQ(s.timing.sample_rate_hz, 1e6) << file;
-    EXPECT_EQ(s.timing.tick_samples, 1000U) << file;
+    EXPECT_EQ(s.timing.tick_samples, 250U) << file;
   }
 }
 

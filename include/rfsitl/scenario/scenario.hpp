@@ -39,10 +39,10 @@ enum class TimeMode { kRealTime, kVirtual };
 
 struct TimingConfig {
   TimeMode mode = TimeMode::kRealTime;
-  double speed = 1.0;                 ///< virtual seconds per wall second (real-time mode)
-  double sample_rate_hz = 1e6;        ///< fs
-  std::uint32_t tick_samples = 1000;  ///< B
-  double duration_s = 0.0;            ///< virtual seconds to run; 0 = until a signal
+  double speed = 1.0;                ///< virtual seconds per wall second (real-time mode)
+  double sample_rate_hz = 1e6;       ///< fs
+  std::uint32_t tick_samples = 250;  ///< B
+  double duration_s = 0.0;           ///< virtual seconds to run; 0 = until a signal
 };
 
 struct PortConfig {
