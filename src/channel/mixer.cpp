@@ -24,39 +24,29 @@ namespace {
 // per-sample expression, so a sample's value never depends on where it sits.
 constexpr std::size_t kBlock = 16;  // 8 complex samples: one AVX or two SSE vectors
 
-/// y[k..k+1] = c * x[k..k+1] (first contributor: no read of y, no zero-fill pass).
-inline void scale_into(float* __restrict y, const float* __restrict x, float cr, float ci,
-                       std::size_t n_floats) {
-  const float cim[2] = {-ci, ci};
+/// y[k..k+1] = c * x[k..k+1] (kAccumulate false: the first contributor, so no
+/// read of y and no zero-fill pass) or y[k..k+1] += c * x[k..k+1].
+template <bool kAccumulate>
+inline void scale(float* __restrict y, const float* __restrict x, float cr, float ci,
+                  std::size_t n_floats) {
+  const auto put = [y](std::size_t k, float v) {
+    if constexpr (kAccumulate) {
+      y[k] += v;
+    } else {
+      y[k] = v;
+    }
+  };
   std::size_t k = 0;
   const std::size_t n_blocked = n_floats - n_floats % kBlock;
   for (; k < n_blocked; k += kBlock) {
     for (std::size_t j = 0; j < kBlock; j += 2) {
-      y[k + j] = cr * x[k + j] + cim[0] * x[k + j + 1];
-      y[k + j + 1] = cr * x[k + j + 1] + cim[1] * x[k + j];
+      put(k + j, cr * x[k + j] - ci * x[k + j + 1]);
+      put(k + j + 1, cr * x[k + j + 1] + ci * x[k + j]);
     }
   }
   for (; k < n_floats; k += 2) {
-    y[k] = cr * x[k] + cim[0] * x[k + 1];
-    y[k + 1] = cr * x[k + 1] + cim[1] * x[k];
-  }
-}
-
-/// y[k..k+1] += c * x[k..k+1].
-inline void accumulate(float* __restrict y, const float* __restrict x, float cr, float ci,
-                       std::size_t n_floats) {
-  const float cim[2] = {-ci, ci};
-  std::size_t k = 0;
-  const std::size_t n_blocked = n_floats - n_floats % kBlock;
-  for (; k < n_blocked; k += kBlock) {
-    for (std::size_t j = 0; j < kBlock; j += 2) {
-      y[k + j] += cr * x[k + j] + cim[0] * x[k + j + 1];
-      y[k + j + 1] += cr * x[k + j + 1] + cim[1] * x[k + j];
-    }
-  }
-  for (; k < n_floats; k += 2) {
-    y[k] += cr * x[k] + cim[0] * x[k + 1];
-    y[k + 1] += cr * x[k + 1] + cim[1] * x[k];
+    put(k, cr * x[k] - ci * x[k + 1]);
+    put(k + 1, cr * x[k + 1] + ci * x[k]);
   }
 }
 
@@ -78,10 +68,10 @@ void mix(std::span<const cf32* const> inputs, std::span<const cf32> coeffs, std:
     }
     const float* const x = reinterpret_cast<const float*>(inputs[i]);
     if (!written) {
-      scale_into(y, x, c.real(), c.imag(), n_floats);
+      scale<false>(y, x, c.real(), c.imag(), n_floats);
       written = true;
     } else {
-      accumulate(y, x, c.real(), c.imag(), n_floats);
+      scale<true>(y, x, c.real(), c.imag(), n_floats);
     }
   }
   if (!written) {
