@@ -88,18 +88,25 @@ std::string format_position(const std::optional<Position>& p) {
   return buf;
 }
 
+std::string describe_phy(const scenario::PhyConfig& p) {
+  if (p.type == "ofdm") return "ofdm " + std::to_string(p.rate_mbps) + " Mbit/s";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s k=%u BT=%.2f", p.type.c_str(), p.samples_per_symbol,
+                static_cast<double>(p.bandwidth_time));
+  return buf;
+}
+
 void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
   const double tick_ms = 1e3 * s.timing.tick_samples / s.timing.sample_rate_hz;
   std::printf(
-      "rfsitl: scenario '%s': %zu nodes, %s k=%u BT=%.2f, fs %.0f Hz, tick %u samples "
-      "(%.3f ms), %s x%.2f, noise %.1f dB, seed %llu\n",
-      s.name.c_str(), s.nodes.size(), s.phy.type.c_str(), s.phy.samples_per_symbol,
-      static_cast<double>(s.phy.bandwidth_time), s.timing.sample_rate_hz, s.timing.tick_samples,
-      tick_ms, s.timing.mode == scenario::TimeMode::kRealTime ? "real time" : "virtual time",
-      s.timing.speed, 10.0 * std::log10(s.channel.noise_variance),
-      static_cast<unsigned long long>(s.seed));
+      "rfsitl: scenario '%s': %zu nodes, fs %.0f Hz, tick %u samples (%.3f ms), %s x%.2f, "
+      "noise %.1f dB, seed %llu\n",
+      s.name.c_str(), s.nodes.size(), s.timing.sample_rate_hz, s.timing.tick_samples, tick_ms,
+      s.timing.mode == scenario::TimeMode::kRealTime ? "real time" : "virtual time", s.timing.speed,
+      10.0 * std::log10(s.channel.noise_variance), static_cast<unsigned long long>(s.seed));
   for (const auto& n : s.nodes) {
-    std::printf("  node %3u: net %s:%u  location %s:%u  start %s\n", n.id, sc.bind_address.c_str(),
+    std::printf("  node %3u: %-18s net %s:%u  location %s:%u  start %s\n", n.id,
+                describe_phy(n.phy ? *n.phy : s.phy).c_str(), sc.bind_address.c_str(),
                 io::NodeServers::net_port(sc, n.id), sc.bind_address.c_str(),
                 io::NodeServers::loc_port(sc, n.id), format_position(n.initial_position).c_str());
   }

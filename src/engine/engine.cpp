@@ -97,8 +97,9 @@ class LockStepEngine final : public Engine {
       Node& node = nodes_[i];
       node.id = s.nodes[i].id;
       ids_.push_back(node.id);
-      node.radio = phy::make_transceiver(s.phy);
-      node.queue = std::make_unique<SpscRing<QueuedFrame>>(s.phy.tx_queue_frames);
+      const scenario::PhyConfig& phy = s.nodes[i].phy ? *s.nodes[i].phy : s.phy;
+      node.radio = phy::make_transceiver(phy);
+      node.queue = std::make_unique<SpscRing<QueuedFrame>>(phy.tx_queue_frames);
       node.tx.assign(block_, cf32{});
       node.rx.assign(block_, cf32{});
       node.mix_inputs.reserve(n);
@@ -115,9 +116,14 @@ class LockStepEngine final : public Engine {
       shared_noise_.emplace(mix_seed(s.seed, n), unit_noise_variance());
       shared_noise_buf_.assign(block_, cf32{});
     }
-    const phy::Transceiver& radio = *nodes_.front().radio;
-    ledger_.emplace(LedgerConfig{s.channel.noise_variance, radio.sensitivity_snr_db(),
-                                 static_cast<SampleTime>(2 * radio.rx_latency_samples() + block_)},
+    std::vector<double> sensitivity;
+    std::size_t latency = 0;
+    for (const Node& node : nodes_) {
+      sensitivity.push_back(node.radio->sensitivity_snr_db());
+      latency = std::max(latency, node.radio->rx_latency_samples());
+    }
+    ledger_.emplace(LedgerConfig{s.channel.noise_variance, std::move(sensitivity),
+                                 static_cast<SampleTime>(2 * latency + block_)},
                     counters_, [this](NodeId id) { return index_of(id); });
     schedule_traffic();
   }
@@ -130,7 +136,9 @@ class LockStepEngine final : public Engine {
     return static_cast<std::size_t>(it - ids_.begin());
   }
 
-  std::size_t max_payload() const override { return nodes_.front().radio->max_payload(); }
+  std::size_t max_payload(std::size_t node) const override {
+    return nodes_[node].radio->max_payload();
+  }
 
   bool submit(std::size_t node, NetFrame&& frame) override {
     NodeCounters& c = counters_[node];

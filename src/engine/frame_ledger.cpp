@@ -89,7 +89,7 @@ LossReason FrameLedger::loss_reason(const Record& r, std::size_t rx,
   const double snr_db = signal <= 0.0  ? -INFINITY
                         : noise <= 0.0 ? INFINITY
                                        : 10.0 * std::log10(signal / noise);
-  if (snr_db < config_.sensitivity_snr_db) return LossReason::kBelowSensitivity;
+  if (snr_db < config_.sensitivity_snr_db[r.tx]) return LossReason::kBelowSensitivity;
   for (const Record& o : records_) {
     // An overlapping transmission counts as a collision when it reaches the
     // receiver at least as strong as the noise floor.

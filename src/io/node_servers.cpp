@@ -83,7 +83,7 @@ class NetSession final : public PortSession {
  public:
   NetSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
              engine::Engine& engine)
-      : PortSession(std::move(socket), node, id, port, engine), parser_(engine.max_payload()) {}
+      : PortSession(std::move(socket), node, id, port, engine), parser_(engine.max_payload(node)) {}
 
   /// Queues a frame for the agent; false when the backlog is full.
   bool send(const NetFrame& frame) {

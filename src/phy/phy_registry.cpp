@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "rfsitl/phy/gmsk_transceiver.hpp"
+#include "rfsitl/phy/ofdm_transceiver.hpp"
 
 namespace rfsitl::phy {
 namespace {
@@ -17,6 +18,10 @@ const std::map<std::string, Factory>& registry() {
        [](const scenario::PhyConfig& c) {
          return make_gmsk_transceiver(GmskSettings{c.samples_per_symbol, c.filter_delay_symbols,
                                                    c.bandwidth_time, c.max_payload_bytes});
+       }},
+      {"ofdm",
+       [](const scenario::PhyConfig& c) {
+         return make_ofdm_transceiver(OfdmSettings{c.rate_mbps, c.max_payload_bytes});
        }},
   };
   return factories;

@@ -79,6 +79,9 @@ constexpr IntLimit kSamplesPerSymbol{2, 16};
 constexpr IntLimit kFilterDelay{1, 16};
 constexpr IntLimit kPayloadBytes{1, 65535};
 constexpr IntLimit kTxQueue{1, 65536};
+constexpr IntLimit kOfdmPayloadBytes{1, 4095 - 30};  // PSDU <= 4095 octets with MAC overhead
+constexpr IntLimit kRateMbps{1, 1000};
+constexpr std::array<std::string_view, 8> kOfdmRates{"6", "9", "12", "18", "24", "36", "48", "54"};
 constexpr IntLimit kThreads{0, 256};
 constexpr IntLimit kPort{0, 65535};
 constexpr IntLimit kSeed{0, std::numeric_limits<std::uint64_t>::max()};
@@ -201,9 +204,25 @@ void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
       c.fail(key + ".dst", "node " + std::to_string(t.dst) + " is not in nodes (255 = broadcast)");
     }
     if (t.dst == t.src) c.fail(key + ".dst", "equals src (a half-duplex node cannot hear itself)");
-    c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, s.phy.max_payload_bytes});
+    const auto src = std::find_if(s.nodes.begin(), s.nodes.end(),
+                                  [&](const NodeConfig& n) { return n.id == t.src; });
+    const PhyConfig& src_phy = src->phy ? *src->phy : s.phy;
+    c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, src_phy.max_payload_bytes});
     c.check(t.repeat, key + ".repeat", kRepeat);
     c.check(t.interval_s, key + ".interval_s", kNonNegative);
+  }
+}
+
+void check_phy(const Context& c, const PhyConfig& p, const std::string& key) {
+  c.check_name(p.type, key + ".type", phy::known_phy_types());
+  c.check(p.samples_per_symbol, key + ".samples_per_symbol", kSamplesPerSymbol);
+  c.check(p.bandwidth_time, key + ".bandwidth_time", kBandwidthTime);
+  c.check(p.filter_delay_symbols, key + ".filter_delay_symbols", kFilterDelay);
+  c.check(p.max_payload_bytes, key + ".max_payload_bytes", kPayloadBytes);
+  c.check(p.tx_queue_frames, key + ".tx_queue_frames", kTxQueue);
+  c.check_name(std::to_string(p.rate_mbps), key + ".rate_mbps", kOfdmRates);
+  if (p.type == "ofdm") {
+    c.check(p.max_payload_bytes, key + ".max_payload_bytes", kOfdmPayloadBytes);
   }
 }
 
@@ -229,12 +248,10 @@ void validate(const Scenario& s, const Context& c) {
     max_id = std::max<unsigned>(max_id, id);
     if (const auto& p = s.nodes[i].initial_position) check_position(c, *p, key + ".position");
   }
-  c.check_name(s.phy.type, "phy.type", phy::known_phy_types());
-  c.check(s.phy.samples_per_symbol, "phy.samples_per_symbol", kSamplesPerSymbol);
-  c.check(s.phy.bandwidth_time, "phy.bandwidth_time", kBandwidthTime);
-  c.check(s.phy.filter_delay_symbols, "phy.filter_delay_symbols", kFilterDelay);
-  c.check(s.phy.max_payload_bytes, "phy.max_payload_bytes", kPayloadBytes);
-  c.check(s.phy.tx_queue_frames, "phy.tx_queue_frames", kTxQueue);
+  check_phy(c, s.phy, "phy");
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (const auto& p = s.nodes[i].phy) check_phy(c, *p, "nodes[" + std::to_string(i) + "].phy");
+  }
   c.check_name(s.channel.model, "channel.model", kChannelModels);
   c.check(s.channel.path_loss_exponent, "channel.path_loss_exponent", kNonNegative);
   c.check(s.channel.noise_variance, "channel.noise_variance", kNonNegative);
@@ -478,6 +495,7 @@ void read_phy(Context& c, const Entry& at, PhyConfig& p) {
   sec.get("filter_delay_symbols", p.filter_delay_symbols, kFilterDelay);
   sec.get("max_payload_bytes", p.max_payload_bytes, kPayloadBytes);
   sec.get("tx_queue_frames", p.tx_queue_frames, kTxQueue);
+  sec.get("rate_mbps", p.rate_mbps, kRateMbps);
   sec.finish();
 }
 
@@ -523,11 +541,16 @@ NodeId node_id(Context& c, Section& sec, std::string_view leaf, IntLimit lim) {
   return static_cast<NodeId>(integer(c, sec.require(leaf), lim));
 }
 
-NodeConfig read_node(Context& c, const Entry& at) {
+// A node's `phy` starts from the scenario's and overrides the keys it names.
+NodeConfig read_node(Context& c, const Entry& at, const PhyConfig& scenario_phy) {
   Section sec(c, at);
   NodeConfig n;
   n.id = node_id(c, sec, "id", kNodeIdLimit);
   n.initial_position = read_position(c, sec.take("position"));
+  if (const Entry phy = sec.take("phy")) {
+    n.phy = scenario_phy;
+    read_phy(c, phy, *n.phy);
+  }
   sec.finish();
   return n;
 }
@@ -559,7 +582,7 @@ Scenario read_scenario(Context& c, const YAML::Node& root) {
   read_channel(c, sec.take("channel"), s.channel);
   read_engine(c, sec.take("engine"), s.engine);
   for_each_item(c, sec.require("nodes"),
-                [&](const Entry& e) { s.nodes.push_back(read_node(c, e)); });
+                [&](const Entry& e) { s.nodes.push_back(read_node(c, e, s.phy)); });
   for_each_item(c, sec.take("traffic"),
                 [&](const Entry& e) { s.traffic.push_back(read_traffic_item(c, e)); });
   sec.finish();

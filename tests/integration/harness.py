@@ -48,26 +48,30 @@ def pick_port_bases(node_ids):
     raise RuntimeError("no free port range found on 127.0.0.1")
 
 
-def scenario_yaml(nodes, extra=""):
-    """nodes: {id: (x, y, z) or None}. Positions are local metres."""
+def scenario_yaml(nodes, extra="", node_phy=None):
+    """nodes: {id: (x, y, z) or None}, positions in local metres; node_phy:
+    {id: {key: value}} per-node PHY settings."""
     lines = ["name: integration-test", "seed: 7", "nodes:"]
     for node_id, pos in nodes.items():
         lines.append(f"  - id: {node_id}")
         if pos is not None:
             lines.append(f"    position: {{x: {pos[0]}, y: {pos[1]}, z: {pos[2]}}}")
+        if node_phy and node_id in node_phy:
+            fields = ", ".join(f"{k}: {v}" for k, v in node_phy[node_id].items())
+            lines.append(f"    phy: {{{fields}}}")
     return "\n".join(lines) + "\n" + extra
 
 
 class Emulator:
     """`with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:` runs rfsitl."""
 
-    def __init__(self, nodes, extra_yaml="", args=(), ready_timeout=60.0):
+    def __init__(self, nodes, extra_yaml="", args=(), ready_timeout=60.0, node_phy=None):
         self.nodes = nodes
         self.net_base, self.loc_base = pick_port_bases(list(nodes))
         self.dir = tempfile.TemporaryDirectory(prefix="rfsitl-it-")
         self.scenario = os.path.join(self.dir.name, "scenario.yaml")
         with open(self.scenario, "w") as f:
-            f.write(scenario_yaml(nodes, extra_yaml))
+            f.write(scenario_yaml(nodes, extra_yaml, node_phy))
         self.summary_path = os.path.join(self.dir.name, "summary.json")
         self.args = [BIN, "run", self.scenario, "--net-base", str(self.net_base),
                      "--loc-base", str(self.loc_base), "--stats-interval", "0",

@@ -226,8 +226,8 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
        "t.yaml:3: nodes[0].position: mixes lat/lon/alt with x/y/z; use one form"},
       {"nodes: []\n", "t.yaml:1: nodes: must list 1..250 nodes, got 0"},
       {"name: x\n", "t.yaml:1: nodes: required"},
-      {"nodes: [{id: 1}]\nphy:\n  type: ofdm\n",
-       "t.yaml:3: phy.type: unknown 'ofdm' (known: gmsk)"},
+      {"nodes: [{id: 1}]\nphy:\n  type: dsss\n",
+       "t.yaml:3: phy.type: unknown 'dsss' (known: gmsk, ofdm)"},
       {"nodes: [{id: 1}]\nchannel:\n  model: free_space\n",
        "t.yaml:3: channel.model: unknown 'free_space' (known: paper)"},
       {"nodes: [{id: 1}]\nchannel:\n  origin: {x: 1, y: 2}\n",
@@ -258,8 +258,9 @@ TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {
             "sample_rate_hz, tick_samples, duration_s)");
   EXPECT_TRUE(contains(error_of("nodes: [{id: 1}]\nnode: []\n"),
                        "t.yaml:2: node: unknown key (allowed at top level: name, seed,"));
-  EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    pos: {x: 0, y: 0}\n"),
-                       "t.yaml:3: nodes[0].pos: unknown key (allowed in nodes[0]: id, position)"));
+  EXPECT_TRUE(
+      contains(error_of("nodes:\n  - id: 1\n    pos: {x: 0, y: 0}\n"),
+               "t.yaml:3: nodes[0].pos: unknown key (allowed in nodes[0]: id, position, phy)"));
   EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    position: {lat: 1, lon: 2, altitude: 3}\n"),
                        "t.yaml:3: nodes[0].position.altitude: unknown key"));
 }
@@ -307,7 +308,7 @@ TEST(ParseScenario, YamlSyntaxErrorReportsTheLine) {
 
 TEST(ValidateScenario, AcceptsAStructBuiltScenario) {
   Scenario s;
-  s.nodes = {{1, std::nullopt}, {2, LocalPosition{5, 0, 10}}};
+  s.nodes = {{1, std::nullopt, std::nullopt}, {2, LocalPosition{5, 0, 10}, std::nullopt}};
   s.traffic = {TrafficItem{}};
   EXPECT_NO_THROW(validate_scenario(s));
 }
@@ -315,11 +316,11 @@ TEST(ValidateScenario, AcceptsAStructBuiltScenario) {
 TEST(ValidateScenario, ReportsWithSourceScenarioAndNoLine) {
   Scenario s;
   EXPECT_EQ(validation_error_of(s), "scenario: nodes: must list 1..250 nodes, got 0");
-  s.nodes = {{4, std::nullopt}, {4, std::nullopt}};
+  s.nodes = {{4, std::nullopt, std::nullopt}, {4, std::nullopt, std::nullopt}};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[1].id: duplicate id 4 (also nodes[0].id)");
-  s.nodes = {{0, std::nullopt}};
+  s.nodes = {{0, std::nullopt, std::nullopt}};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[0].id: must be in 1..250, got 0");
-  s.nodes = {{1, std::nullopt}};
+  s.nodes = {{1, std::nullopt, std::nullopt}};
   s.phy.bandwidth_time = 1.0F;
   EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: must be in (0, 1), got 1");
   s.phy = PhyConfig{};

@@ -51,8 +51,8 @@ class Engine {
   /// refused by the caller. Thread-safe for ONE producer thread (the I/O thread).
   virtual bool submit(std::size_t node, NetFrame&& frame) = 0;
 
-  /// Largest payload a frame may carry.
-  virtual std::size_t max_payload() const = 0;
+  /// Largest payload a frame from node `node` may carry.
+  virtual std::size_t max_payload(std::size_t node) const = 0;
 
   /// Moves node `node` (nullopt: position unknown, no links). Thread-safe; takes
   /// effect at the next tick.

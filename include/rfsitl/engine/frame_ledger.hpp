@@ -15,9 +15,11 @@
 namespace rfsitl::engine {
 
 struct LedgerConfig {
-  double noise_variance = 0.0;      ///< sigma^2 at every receiver
-  double sensitivity_snr_db = 0.0;  ///< PHY sensitivity, for naming losses only
-  SampleTime grace_samples = 0;     ///< receiver latency allowed after a frame ends
+  double noise_variance = 0.0;  ///< sigma^2 at every receiver
+  /// Sensitivity (dB) of each node's PHY, by node index: a frame is named
+  /// below_sensitivity when its SNR is under its transmitter's figure.
+  std::vector<double> sensitivity_snr_db;
+  SampleTime grace_samples = 0;  ///< receiver latency allowed after a frame ends
 };
 
 /// Engine-thread only (not thread-safe). Node indices are 0..N-1.

@@ -11,20 +11,23 @@
 
 namespace rfsitl::scenario {
 
-struct NodeConfig {
-  NodeId id = 1;
-  /// Where the node starts; nullopt until its location feed reports (no links meanwhile).
-  std::optional<Position> initial_position;
-};
-
-/// Parameters of the GMSK transceiver (the only PHY of the core emulator).
+/// Transceiver type and parameters. Fields that a type does not use are ignored.
 struct PhyConfig {
-  std::string type = "gmsk";
+  std::string type = "gmsk";          ///< "gmsk" or "ofdm"
+  unsigned rate_mbps = 6;             ///< ofdm: 802.11a/g rate at 20 MHz (6 ... 54)
   unsigned samples_per_symbol = 2;    ///< k, >= 2
   unsigned filter_delay_symbols = 3;  ///< m, 1..16
   float bandwidth_time = 0.5F;        ///< BT, (0, 1)
   std::size_t max_payload_bytes = 2048;
   std::size_t tx_queue_frames = 64;  ///< bounded TX queue per node
+};
+
+struct NodeConfig {
+  NodeId id = 1;
+  /// Where the node starts; nullopt until its location feed reports (no links meanwhile).
+  std::optional<Position> initial_position;
+  /// This node's transceiver, when it differs from the scenario's `phy`.
+  std::optional<PhyConfig> phy;
 };
 
 struct ChannelConfig {

@@ -17,13 +17,18 @@ std::vector<std::uint8_t> bytes_to_bits(std::span<const std::uint8_t> bytes);
 std::vector<std::uint8_t> bits_to_bytes(std::span<const std::uint8_t> bits);
 
 /// XORs `bits` in place with the scrambler sequence of generator x^7 + x^4 + 1
-/// started from `seed` (7 bits x1..x7, x1 in bit 0... see the implementation for
-/// the exact bit order, which matches Annex I: seed 1011101 gives Table I-14).
-/// Scrambling and descrambling are the same operation. Precondition: seed != 0.
+/// (17.3.5.5, Figure 17-7) started from `seed`. Seed bit order: bit i of `seed`
+/// is register stage x(i+1), i.e. x1 in bit 0 ... x7 in bit 6 (bit 7 ignored).
+/// Each step outputs x7 ^ x4, XORs it onto the next bit and shifts it in as
+/// the new x1. So seed 0x01 (x1 = 1) gives the sequence 0 0 0 1 0 0 1 1 ...,
+/// and Annex I's state 1011101 (a palindrome, so x1-first and x7-first read the
+/// same) is 0x5D and gives Table I-14: 0 1 1 0 1 1 0 0 ... Scrambling and
+/// descrambling are the same operation. Precondition: (seed & 0x7F) != 0.
 void scramble(std::span<std::uint8_t> bits, std::uint8_t seed);
 
-/// Recovers the scrambler seed from the first 7 received (scrambled) SERVICE bits,
-/// whose unscrambled value is 0. Precondition: first7.size() == 7.
+/// Recovers the scrambler seed (same bit order as scramble()) from the first 7
+/// received (scrambled) SERVICE bits, whose unscrambled value is 0.
+/// Precondition: first7.size() == 7.
 std::uint8_t seed_from_service(std::span<const std::uint8_t> first7);
 
 /// Rate-1/2 convolutional encoder, K = 7, generators g0 = 133, g1 = 171 (octal),

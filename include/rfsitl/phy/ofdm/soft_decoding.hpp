@@ -1,8 +1,9 @@
 #pragma once
 /// The receive side of the bit pipeline: soft demapping, deinterleaving,
-/// depuncturing and Viterbi decoding. Soft values are log-likelihood ratios
-/// scaled so that llr > 0 means bit 0 is more likely... see each function; all
-/// share one convention: llr = log(P(b=0)/P(b=1)).
+/// depuncturing and Viterbi decoding, the inverses of bit_pipeline.hpp. All soft
+/// values share one convention: llr = log(P(b=0)/P(b=1)), so llr > 0 means bit 0
+/// is more likely, the magnitude is the confidence and llr = 0 is an erasure (no
+/// information). Size violations throw std::invalid_argument.
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -14,11 +15,12 @@
 namespace rfsitl::phy::ofdm {
 
 /// Soft-demaps one equalized point of the 17.3.5.8 constellation into n_bpsc
-/// LLRs (max-log approximation). `noise_var` is the post-equalization noise
-/// variance of this subcarrier (> 0). Precondition: out.size() == n_bpsc.
+/// LLRs (max-log approximation), in bit order b0 b1 ... as map_point() takes them.
+/// `noise_var` is the post-equalization complex noise variance E|n|^2 of this
+/// subcarrier (> 0; infinity gives erasures). Precondition: out.size() == n_bpsc.
 void demap_soft(cf32 point, unsigned n_bpsc, float noise_var, std::span<float> out);
 
-/// Inverse of interleave() for one symbol of soft values.
+/// Inverse of interleave() for one symbol of soft values (n_cbps = in.size()).
 std::vector<float> deinterleave(std::span<const float> in, unsigned n_bpsc);
 
 /// Re-inserts the punctured positions as erasures (llr 0), giving a rate-1/2
@@ -32,7 +34,10 @@ class ViterbiDecoder {
   virtual ~ViterbiDecoder() = default;
   /// Decodes n_bits data bits from 2 * n_bits rate-1/2 LLRs (A0 B0 A1 B1 ...).
   /// The trellis starts in state 0; if `terminated`, the last 6 data bits are the
-  /// zero tail and the path is forced to end in state 0.
+  /// zero tail and the path is forced to end in state 0 (those 6 bits come back
+  /// as 0; precondition n_bits >= 6), otherwise it ends in the best state. Only
+  /// the LLRs' relative sizes matter: a common positive factor changes nothing.
+  /// Returns n_bits bits. Not thread-safe; use one decoder per thread.
   virtual std::vector<std::uint8_t> decode(std::span<const float> llr, std::size_t n_bits,
                                            bool terminated) = 0;
 };

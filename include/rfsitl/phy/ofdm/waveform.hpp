@@ -20,7 +20,8 @@ inline constexpr unsigned kPreambleSamples = 320;                     // L-STF +
 
 /// Subcarrier index (-26..26, no DC) of each of the 48 data subcarriers, in mapping order.
 const std::array<int, 48>& data_subcarriers();
-/// Pilot subcarriers -21, -7, 7, 21 and their base values 1, 1, 1, -1.
+/// Pilot subcarrier indices -21, -7, 7, 21 (in that order); their base values
+/// 1, 1, 1, -1 (17.3.5.10) are multiplied by pilot_polarity(n).
 const std::array<int, 4>& pilot_subcarriers();
 /// Pilot polarity p_n for OFDM symbol n (SIGNAL is n = 0), period 127 (17.3.5.10).
 int pilot_polarity(unsigned n);

@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""Plots packet error rate versus SNR from `rfsitl_per_sweep` CSV, one curve per
+PHY/rate, with the theoretical curve of each uncoded PHY from its BER formula,
+and prints the SNR at which each curve crosses 10% and 1% PER.
+
+    /usr/bin/python3 scripts/plot_per.py out/per/per_vs_snr.csv -o out/per/per_vs_snr.png
+"""
+
+import argparse
+import csv
+import math
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# GMSK: BER = Q(sqrt(2 alpha Eb/N0)) (Murota and Hirade's approximation as given
+# in Rappaport, Wireless Communications, sec. 6.9): alpha = 0.68 at BT = 0.25 and
+# 0.85 for MSK (BT -> infinity); rfsitl's BT = 0.5 lies close to MSK, so 0.85.
+# Per-sample SNR at k = 2 samples per bit: Eb/N0 = 2 SNR. A packet is lost when
+# any of its bits is: PER = 1 - (1 - BER)^n, with n the bits under the CRC
+# (8-byte header + 80-byte payload + CRC-32 = 736).
+GMSK_ALPHA = 0.85
+GMSK_BITS = 8 * (8 + 80 + 4)
+
+
+def q(x):
+    return 0.5 * math.erfc(x / math.sqrt(2.0))
+
+
+def gmsk_theory(snr_db):
+    ebn0 = 2.0 * 10 ** (snr_db / 10.0)
+    ber = q(math.sqrt(2.0 * GMSK_ALPHA * ebn0))
+    return 1.0 - (1.0 - ber) ** GMSK_BITS
+
+
+THEORY = {"gmsk": ("GMSK theory (uncoded)", gmsk_theory)}
+
+
+def crossing(points, target, floor=1e-9):
+    """SNR where PER first falls to `target`, interpolating log10(PER) linearly
+    (a measured 0 counts as `floor`, half a frame's worth)."""
+    points = sorted(points)
+    for (s0, p0), (s1, p1) in zip(points, points[1:]):
+        if p0 > target >= p1:
+            l0, l1 = math.log10(max(p0, floor)), math.log10(max(p1, floor))
+            lt = math.log10(target)
+            return s0 + (s1 - s0) * (l0 - lt) / (l0 - l1)
+    return None
+
+
+def sort_key(name):
+    digits = "".join(ch for ch in name if ch.isdigit())
+    return (name.rstrip("0123456789"), int(digits) if digits else 0)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("csv")
+    ap.add_argument("-o", "--output", required=True)
+    args = ap.parse_args()
+
+    curves = defaultdict(list)
+    frames = 0
+    with open(args.csv) as f:
+        for row in csv.DictReader(f):
+            curves[row["phy"]].append((float(row["snr_db"]), float(row["per"])))
+            frames = max(frames, int(row["frames"]))
+    floor = 0.5 / frames if frames else 1e-4
+
+    fig, ax = plt.subplots(figsize=(8, 5))
+    print("| PHY | SNR at 10% PER | SNR at 1% PER | theory at 10% / 1% |")
+    print("|---|---|---|---|")
+    for name in sorted(curves, key=sort_key):
+        pts = sorted(curves[name])
+        line, = ax.semilogy([s for s, _ in pts], [max(p, floor) for _, p in pts], "o-",
+                            markersize=3, label=name)
+        s10, s1 = crossing(pts, 0.1, floor), crossing(pts, 0.01, floor)
+        theory = ""
+        if name in THEORY:
+            label, fn = THEORY[name]
+            xs = [x / 10 for x in range(int(pts[0][0] * 10), int(pts[-1][0] * 10) + 1)]
+            tp = [(x, fn(x)) for x in xs]
+            ax.semilogy(xs, [max(p, floor) for _, p in tp], "--", color=line.get_color(),
+                        label=label)
+            t10, t1 = crossing(tp, 0.1), crossing(tp, 0.01)
+            theory = f"{t10:.1f} dB / {t1:.1f} dB" if t10 and t1 else ""
+        fmt = lambda v: f"{v:.1f} dB" if v is not None else "n/a"  # noqa: E731
+        print(f"| {name} | {fmt(s10)} | {fmt(s1)} | {theory} |")
+    ax.set_xlabel("SNR per sample [dB] (signal power / noise power in fs)")
+    ax.set_ylabel(f"packet error rate ({frames} frames of 80 bytes per point)")
+    ax.set_ylim(floor * 0.8, 1.05)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(ncol=2, fontsize=8)
+    ax.set_title("rfsitl: PER versus SNR through the emulator's channel")
+    fig.tight_layout()
+    fig.savefig(args.output, dpi=110)
+    print(f"plot: {args.output}")
+
+
+if __name__ == "__main__":
+    main()
