@@ -1,0 +1,110 @@
+// Decoding throughput of make_viterbi_decoder() (libfec viterbi27) for one
+// 1500-byte PSDU: SERVICE (16) + 12000 PSDU bits + 6 tail bits. Reported as
+// decoded data bits per second ("bits/s" = items_per_second).
+//
+// Built as rfsitl_viterbi_bench (bash scripts/build.sh release).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
+#include "rfsitl/phy/ofdm/rates.hpp"
+#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+
+namespace {
+
+using rfsitl::cf32;
+namespace ofdm = rfsitl::phy::ofdm;
+
+constexpr std::size_t kFrameBits = 16 + 8 * 1500 + 6;
+
+/// Random frame with a zero tail, and the rate-1/2 LLRs of its code bits after
+/// BPSK in AWGN at 4 dB Es/N0: a realistic mix of confident and doubtful values.
+struct Frame {
+  std::vector<std::uint8_t> bits;
+  std::vector<float> llr;
+};
+
+Frame make_frame(std::size_t n_bits) {
+  std::mt19937 rng(1500);
+  Frame f;
+  f.bits.resize(n_bits);
+  for (auto& b : f.bits) b = static_cast<std::uint8_t>(rng() & 1U);
+  for (std::size_t i = n_bits - 6; i < n_bits; ++i) f.bits[i] = 0;
+  const float noise_var = std::pow(10.0F, -0.4F);
+  std::normal_distribution<float> noise(0.0F, std::sqrt(noise_var / 2.0F));
+  for (std::uint8_t c : ofdm::convolutional_encode(f.bits)) {
+    const float y = (c != 0 ? 1.0F : -1.0F) + noise(rng);
+    f.llr.push_back(-4.0F * y / noise_var);
+  }
+  return f;
+}
+
+void decode(benchmark::State& state, bool terminated) {
+  const Frame frame = make_frame(kFrameBits);
+  auto decoder = ofdm::make_viterbi_decoder();
+  std::size_t errors = 0;
+  for (auto _ : state) {
+    std::vector<std::uint8_t> out = decoder->decode(frame.llr, kFrameBits, terminated);
+    benchmark::DoNotOptimize(out.data());
+    for (std::size_t i = 0; i < kFrameBits; ++i) errors += out[i] != frame.bits[i];
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kFrameBits));
+  state.counters["bit_errors_per_frame"] =
+      static_cast<double>(errors) / static_cast<double>(state.iterations());
+}
+
+void BM_Viterbi1500BytesTerminated(benchmark::State& state) {
+  decode(state, true);
+}
+void BM_Viterbi1500BytesOpenEnd(benchmark::State& state) {
+  decode(state, false);
+}
+
+/// The whole soft receive chain of the same PSDU at 54 Mb/s (64-QAM, R = 3/4):
+/// demap, deinterleave, depuncture, Viterbi, from noiseless equalized points.
+void BM_SoftChain1500Bytes54Mbps(benchmark::State& state) {
+  const ofdm::RateParams rate = *ofdm::rate_from_mbps(54);
+  const std::size_t n_sym = (kFrameBits + rate.n_dbps - 1) / rate.n_dbps;
+  const std::size_t n_bits = n_sym * rate.n_dbps;  // padded to whole symbols
+  const Frame frame = make_frame(n_bits);
+  const std::vector<std::uint8_t> coded =
+      ofdm::puncture(ofdm::convolutional_encode(frame.bits), rate.coding);
+  std::vector<cf32> points;
+  for (std::size_t s = 0; s < coded.size(); s += rate.n_cbps) {
+    const auto sym = ofdm::interleave(std::span(coded).subspan(s, rate.n_cbps), rate.n_bpsc);
+    for (std::size_t k = 0; k < sym.size(); k += rate.n_bpsc) {
+      points.push_back(ofdm::map_point(std::span(sym).subspan(k, rate.n_bpsc), rate.n_bpsc));
+    }
+  }
+  auto decoder = ofdm::make_viterbi_decoder();
+  std::vector<float> soft(rate.n_cbps);
+  std::vector<float> llr;
+  for (auto _ : state) {
+    llr.clear();
+    for (std::size_t s = 0; s < points.size(); s += 48) {
+      for (std::size_t k = 0; k < 48; ++k) {
+        ofdm::demap_soft(points[s + k], rate.n_bpsc, 0.01F,
+                         std::span(soft).subspan(k * rate.n_bpsc, rate.n_bpsc));
+      }
+      const std::vector<float> d = ofdm::deinterleave(soft, rate.n_bpsc);
+      llr.insert(llr.end(), d.begin(), d.end());
+    }
+    const std::vector<float> half = ofdm::depuncture(llr, rate.coding, n_bits);
+    std::vector<std::uint8_t> out = decoder->decode(half, n_bits, false);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * n_bits));
+}
+
+}  // namespace
+
+BENCHMARK(BM_Viterbi1500BytesTerminated)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Viterbi1500BytesOpenEnd)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SoftChain1500Bytes54Mbps)->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();
