@@ -436,3 +436,31 @@ TEST(ShippedScenarios, EveryLinkIsWellAbove20dB) {
 
 }  // namespace
 }  // namespace rfsitl::scenario
+
+namespace rfsitl::scenario {
+namespace {
+
+TEST(ParseScenario, NodePhyStartsFromTheScenarioPhyAndOverridesItsKeys) {
+  const Scenario s = parse_scenario(
+      "phy: {type: gmsk, max_payload_bytes: 500, tx_queue_frames: 8}\n"
+      "nodes:\n  - id: 1\n  - id: 2\n    phy: {type: ofdm, rate_mbps: 24}\n",
+      "t.yaml");
+  ASSERT_EQ(s.nodes.size(), 2U);
+  EXPECT_FALSE(s.nodes[0].phy.has_value());
+  ASSERT_TRUE(s.nodes[1].phy.has_value());
+  EXPECT_EQ(s.nodes[1].phy->type, "ofdm");
+  EXPECT_EQ(s.nodes[1].phy->rate_mbps, 24U);
+  EXPECT_EQ(s.nodes[1].phy->max_payload_bytes, 500U);  // inherited
+  EXPECT_EQ(s.nodes[1].phy->tx_queue_frames, 8U);      // inherited
+}
+
+TEST(ParseScenario, NodePhyErrorsNameTheNodeKeyAndLine) {
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    phy: {type: ofdm, rate_mbps: 7}\n"),
+            "t.yaml:3: nodes[0].phy.rate_mbps: unknown '7' (known: 6, 9, 12, 18, 24, 36, 48, "
+            "54)");
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    phy: {type: ofdm, max_payload_bytes: 5000}\n"),
+            "t.yaml:3: nodes[0].phy.max_payload_bytes: must be in 1..4065, got 5000");
+}
+
+}  // namespace
+}  // namespace rfsitl::scenario
