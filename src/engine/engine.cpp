@@ -103,6 +103,7 @@ class LockStepEngine final : public Engine {
       node.tx.assign(block_, cf32{});
       node.rx.assign(block_, cf32{});
       node.mix_inputs.reserve(n);
+      active_.reserve(n);
       node.mix_coeffs.reserve(n);
       node.decoded.reserve(8);
       if (!s.channel.shared_noise && s.channel.noise_variance > 0.0) {
@@ -160,8 +161,19 @@ class LockStepEngine final : public Engine {
   NodeCounters& counters(std::size_t node) override { return counters_[node]; }
 
   EngineStatus status() const override {
-    std::lock_guard lock(status_mutex_);
-    return status_;
+    EngineStatus st;
+    const auto rd = [](const auto& a) { return a.load(std::memory_order_relaxed); };
+    st.virtual_samples = rd(status_.virtual_samples);
+    st.virtual_s = static_cast<double>(st.virtual_samples) / scenario_.timing.sample_rate_hz;
+    st.wall_s = clock_.elapsed_wall_s();
+    st.lag_s = rd(status_.lag_s);
+    st.max_lag_s = rd(status_.max_lag_s);
+    st.late_ticks = rd(status_.late_ticks);
+    st.late_decodes = rd(status_.late_decodes);
+    st.receiver_ticks_run = rd(status_.receiver_ticks_run);
+    st.receiver_ticks_skipped = rd(status_.receiver_ticks_skipped);
+    st.receiver_ticks_blanked = rd(status_.receiver_ticks_blanked);
+    return st;
   }
 
   void run(const std::atomic<bool>& stop) override {
@@ -269,9 +281,13 @@ class LockStepEngine final : public Engine {
     node.active = node.tx_samples > 0;
   }
 
+  /// Serially after the TX phase: the ledger learns of new frames, and active_
+  /// lists this tick's transmitters (in index order, so mixing order is fixed).
   void record_transmissions() {
+    active_.clear();
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       Node& node = nodes_[i];
+      if (node.active) active_.push_back(i);
       if (!node.started) continue;
       const auto& [serial, frame] = *node.started;
       ledger_->on_transmit(serial, i, frame.dst, now_,
@@ -300,8 +316,8 @@ class LockStepEngine final : public Engine {
     if (blanked_whole_tick(node)) return false;
     if (!scenario_.engine.skip_idle_receivers) return true;
     if (node.receiver_blanked || node.radio->rx_busy()) return true;
-    for (std::size_t n = 0; n < nodes_.size(); ++n) {
-      if (n != m && nodes_[n].active && channel_.coefficient(n, m) != cf32{}) return true;
+    for (const std::size_t n : active_) {
+      if (n != m && channel_.coefficient(n, m) != cf32{}) return true;
     }
     return false;
   }
@@ -333,8 +349,8 @@ class LockStepEngine final : public Engine {
     node.mix_coeffs.clear();
     const auto row = channel_.receiver_row(m);
     const float g = static_cast<float>(gain_);
-    for (std::size_t n = 0; n < nodes_.size(); ++n) {
-      if (n != m && nodes_[n].active && row[n] != cf32{}) {
+    for (const std::size_t n : active_) {
+      if (n != m && row[n] != cf32{}) {
         node.mix_inputs.push_back(nodes_[n].tx.data() + first);
         node.mix_coeffs.push_back(row[n] * g);
       }
@@ -367,18 +383,18 @@ class LockStepEngine final : public Engine {
     }
   }
 
+  /// Once per tick, lock-free: relaxed atomic stores that any thread may read
+  /// (each field is consistent on its own, which is all a stats line needs).
   void publish_status() {
-    std::lock_guard lock(status_mutex_);
-    status_.virtual_samples = now_;
-    status_.virtual_s = static_cast<double>(now_) / scenario_.timing.sample_rate_hz;
-    status_.wall_s = clock_.elapsed_wall_s();
-    status_.lag_s = clock_.lag_s();
-    status_.max_lag_s = clock_.max_lag_s();
-    status_.late_ticks = clock_.late_ticks();
-    status_.late_decodes = ledger_->late_decodes();
-    status_.receiver_ticks_run = run_ticks_;
-    status_.receiver_ticks_skipped = skipped_ticks_;
-    status_.receiver_ticks_blanked = blanked_ticks_;
+    const auto wr = [](auto& a, auto v) { a.store(v, std::memory_order_relaxed); };
+    wr(status_.virtual_samples, now_);
+    wr(status_.lag_s, clock_.lag_s());
+    wr(status_.max_lag_s, clock_.max_lag_s());
+    wr(status_.late_ticks, clock_.late_ticks());
+    wr(status_.late_decodes, ledger_->late_decodes());
+    wr(status_.receiver_ticks_run, run_ticks_);
+    wr(status_.receiver_ticks_skipped, skipped_ticks_);
+    wr(status_.receiver_ticks_blanked, blanked_ticks_);
   }
 
   struct ScheduledFrame {
@@ -396,6 +412,7 @@ class LockStepEngine final : public Engine {
   channel::ChannelMatrix channel_;
   std::vector<NodeCounters> counters_;
   std::vector<Node> nodes_;
+  std::vector<std::size_t> active_;  // transmitters of the current tick
   std::vector<NodeId> ids_;
   std::optional<FrameLedger> ledger_;
   TickClock clock_;
@@ -413,8 +430,16 @@ class LockStepEngine final : public Engine {
   std::vector<std::optional<std::optional<Ecef>>> pending_positions_;
   std::atomic<bool> positions_dirty_{false};
 
-  mutable std::mutex status_mutex_;  // taken once per tick, never contended for long
-  EngineStatus status_;
+  struct AtomicStatus {
+    std::atomic<SampleTime> virtual_samples{0};
+    std::atomic<double> lag_s{0.0};
+    std::atomic<double> max_lag_s{0.0};
+    std::atomic<std::uint64_t> late_ticks{0};
+    std::atomic<std::uint64_t> late_decodes{0};
+    std::atomic<std::uint64_t> receiver_ticks_run{0};
+    std::atomic<std::uint64_t> receiver_ticks_skipped{0};
+    std::atomic<std::uint64_t> receiver_ticks_blanked{0};
+  } status_;
 };
 
 }  // namespace
