@@ -43,5 +43,25 @@ class OfdmTest(unittest.TestCase):
         assert_accounted(self, summary)
 
 
+class MixedPhyTest(unittest.TestCase):
+    def test_ofdm_transmission_collides_with_a_gmsk_frame_at_equal_power(self):
+        # Node 2 (GMSK) hears GMSK node 1 and OFDM node 3 equally strongly.
+        nodes = {1: (-5, 0, 10), 2: (0, 0, 10), 3: (5, 0, 10), 4: (5, 5, 10)}
+        ofdm = {"type": "ofdm", "rate_mbps": 6}
+        with Emulator(nodes, node_phy={3: ofdm, 4: ofdm}, args=("--speed", "0.05")) as emu:
+            a1, a2, a3 = emu.agent(1), emu.agent(2), emu.agent(3)
+            a1.send(1, 2, b"alone on the air" + bytes(60))
+            self.assertEqual(len(a2.receive(1, timeout=1.0)), 1)
+            for i in range(3):
+                a1.send(1, 2, b"gmsk %d" % i + bytes(70))
+                a3.send(3, 4, b"ofdm %d" % i + bytes(200))  # longer: covers the GMSK frame
+                self.assertEqual(a2.receive(1, timeout=1.5), [])
+            summary = emu.stop()
+        n1 = emu.node(1)
+        self.assertEqual(n1["delivered"], 1)
+        self.assertEqual(n1["lost"]["collision"], 3, n1)
+        assert_accounted(self, summary)
+
+
 if __name__ == "__main__":
     unittest.main()
