@@ -1,0 +1,210 @@
+#!/usr/bin/env bash
+# The benchmark suite: set up, build (release), measure, and write CSV files, PNG
+# plots and summary.md into out/bench/ (the paper's numbers beside ours).
+#
+#   bash bench/run_benchmarks.sh            # full run, about 15 minutes on 2 cores
+#   QUICK=1 bash bench/run_benchmarks.sh    # smoke run, a few minutes
+#
+# Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
+# Stages (STAGES="fig4 fig5 capacity virtual mix" by default; any subset):
+#   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
+#   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
+#   capacity  every node pings a random other node once per second for CAP_SECONDS of
+#             real time (rfsitl_swarm_load); largest N that keeps real time (definition:
+#             scripts/bench_collect.py) and its delivery ratio
+#   virtual   simulated seconds per wall second, VIRT_NODES nodes, 1 frame/node/s
+#   mix       channel::mix complex MAC/s beside the CPU's measured peak
+# Environment (defaults for the full run; QUICK=1 picks shorter ones):
+#   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
+#   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MIX_SECONDS=0.2  PORT_BASE=20000
+#   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)
+# Every emulator binds 127.0.0.1, gets its own port range (PORT_BASE + 1000 k) and is
+# always stopped (SIGINT, then SIGKILL after 30 s), also when this script fails.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+T_START=$(date +%s)
+
+QUICK="${QUICK:-0}"
+if [ "$QUICK" = 1 ]; then
+  D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
+else
+  D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAP_S=60
+  D_VIRT_S=60 D_MIX_S=0.2
+fi
+OUT="${OUT:-out/bench}"
+COUNT="${COUNT:-$D_COUNT}"
+FIG5_NODES="${FIG5_NODES:-$D_FIG5}"
+CAP_NODES="${CAP_NODES:-$D_CAP}"
+CAP_SECONDS="${CAP_SECONDS:-$D_CAP_S}"
+VIRT_NODES="${VIRT_NODES:-15}"
+VIRT_SECONDS="${VIRT_SECONDS:-$D_VIRT_S}"
+MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
+PORT_BASE="${PORT_BASE:-20000}"
+STAGES="${STAGES-fig4 fig5 capacity virtual mix}"  # empty: only the report
+# Architectures of the Fig. 4 CDF. Each name A needs a function fig4_start_A LOG JSON
+# that starts that architecture's emulator with 6 nodes via start_emulator (below) or
+# its own launcher that sets EMU_PID and NET_BASE the same way. The split-architecture
+# issue adds fig4_start_split and appends "split" here: its curve then joins the plot.
+FIG4_ARCHS="${FIG4_ARCHS:-inprocess}"
+
+mkdir -p "$OUT"/fig4 "$OUT"/fig5 "$OUT"/capacity
+# Report only (STAGES empty): keep the timings and run facts of the run that measured.
+[ -z "$STAGES" ] || rm -f "$OUT/timings.csv" "$OUT/run_info.csv"
+T_LAST=$T_START
+# Records how long the part since the last mark took, and the 1-minute load average
+# at its end: other processes on the same cores make every real-time result worse.
+mark() {
+  local now load
+  now=$(date +%s)
+  load=$(cut -d' ' -f1 /proc/loadavg)
+  echo "bench: $1 took $((now - T_LAST)) s (load average $load)"
+  echo "$1,$((now - T_LAST)),$load" >>"$OUT/timings.csv"
+  T_LAST=$now
+}
+LOAD_BEFORE=$(cut -d' ' -f1 /proc/loadavg)
+if [ "${NO_BUILD:-0}" != 1 ]; then
+  bash scripts/setup.sh
+  bash scripts/build.sh release
+fi
+BIN=build/release/apps/rfsitl
+BENCH=build/release/bench
+PY=/usr/bin/python3
+stage() { [[ " $STAGES " == *" $1 "* ]]; }
+
+# --- emulator lifecycle -----------------------------------------------------------
+EMU_PID=""
+NET_BASE=""
+RUN_INDEX=0
+
+stop_emulator() {
+  [ -n "$EMU_PID" ] || return 0
+  kill -INT "$EMU_PID" 2>/dev/null || true
+  for _ in $(seq 300); do
+    kill -0 "$EMU_PID" 2>/dev/null || break
+    sleep 0.1
+  done
+  if kill -0 "$EMU_PID" 2>/dev/null; then
+    echo "bench: emulator $EMU_PID ignored SIGINT for 30 s; killing it" >&2
+    kill -KILL "$EMU_PID" 2>/dev/null || true
+  fi
+  wait "$EMU_PID" 2>/dev/null || true
+  EMU_PID=""
+}
+trap stop_emulator EXIT
+trap 'stop_emulator; exit 130' INT TERM
+
+# start_emulator LOG JSON ARGS...: starts `rfsitl run ARGS` on a fresh port range and
+# waits for "rfsitl: ready"; tries three ranges (a port may be taken by someone else).
+start_emulator() {
+  local log="$1" json="$2"
+  shift 2
+  for _attempt in 1 2 3; do
+    local base=$((PORT_BASE + 1000 * (RUN_INDEX % 40)))
+    RUN_INDEX=$((RUN_INDEX + 1))
+    NET_BASE=$((base + 3))
+    "$BIN" run "$@" --net-base "$NET_BASE" --loc-base $((base + 6)) --bind 127.0.0.1 \
+      --stats-interval 1 --summary-json "$json" >"$log" 2>&1 &
+    EMU_PID=$!
+    for _ in $(seq 600); do
+      grep -q "rfsitl: ready" "$log" 2>/dev/null && return 0
+      kill -0 "$EMU_PID" 2>/dev/null || break
+      sleep 0.1
+    done
+    echo "bench: emulator did not get ready on ports $base+ (tail of $log):" >&2
+    tail -3 "$log" >&2 || true
+    stop_emulator
+  done
+  return 1
+}
+
+fig4_start_inprocess() { start_emulator "$1" "$2" --nodes 6; }
+
+# --- stages -----------------------------------------------------------------------
+# The air-time floor is always measured: every RTT is also shown as a multiple of it.
+"$BENCH"/rfsitl_airtime --size 80 --ack-size 8 --sample-rate 1e6 | tee "$OUT/airtime.csv"
+FLOOR_MS=$(tail -1 "$OUT/airtime.csv" | cut -d, -f7)
+[ -z "$STAGES" ] || mark setup
+
+if stage fig4; then
+  echo "== Fig. 4: CDF of $COUNT RTTs at N = 6 ($FIG4_ARCHS)"
+  for arch in $FIG4_ARCHS; do
+    rm -f "$OUT/fig4/rtt_$arch.csv"
+    if "fig4_start_$arch" "$OUT/fig4/emulator_$arch.log" "$OUT/fig4/summary_$arch.json"; then
+      printf "%s: " "$arch"
+      "$BIN" ping --src 1 --dst 6 --count "$COUNT" --size 80 --timeout 2 --quiet \
+        --net-base "$NET_BASE" --csv "$OUT/fig4/rtt_$arch.csv" || echo "ping failed"
+    fi
+    stop_emulator
+  done
+  mark fig4
+fi
+
+if stage fig5; then
+  echo "== Fig. 5: RTT against N = $FIG5_NODES ($COUNT packets each, node 1 -> node N)"
+  rm -f "$OUT/fig5_rtt_vs_n.csv"
+  for n in $FIG5_NODES; do
+    log="$OUT/fig5/emulator_$n.log" json="$OUT/fig5/summary_$n.json" rtt="$OUT/fig5/rtt_$n.csv"
+    rm -f "$json" "$rtt"
+    if start_emulator "$log" "$json" --nodes "$n"; then
+      "$BIN" ping --src 1 --dst "$n" --count "$COUNT" --size 80 --timeout 2 --quiet \
+        --net-base "$NET_BASE" --csv "$rtt" >/dev/null || echo "bench: ping at N=$n failed"
+    fi
+    stop_emulator
+    "$PY" scripts/bench_collect.py rtt-row --n "$n" --ping-csv "$rtt" --summary-json "$json" \
+      --floor-ms "$FLOOR_MS" --out "$OUT/fig5_rtt_vs_n.csv"
+  done
+  mark fig5
+fi
+
+if stage capacity; then
+  echo "== Capacity: every node pings a random other node once per second, $CAP_SECONDS s" \
+    "of real time, N = $CAP_NODES"
+  rm -f "$OUT/capacity.csv"
+  for n in $CAP_NODES; do
+    log="$OUT/capacity/emulator_$n.log" json="$OUT/capacity/summary_$n.json"
+    load="$OUT/capacity/load_$n.json"
+    rm -f "$json" "$load"
+    from=0 to=0
+    if start_emulator "$log" "$json" --nodes "$n"; then
+      from=$(wc -l <"$log")
+      "$BENCH"/rfsitl_swarm_load --nodes "$n" --net-base "$NET_BASE" --duration "$CAP_SECONDS" \
+        --seed "$n" --json "$load" --csv "$OUT/capacity/pings_$n.csv" ||
+        echo "bench: load at N=$n failed"
+      to=$(wc -l <"$log")
+    fi
+    stop_emulator
+    "$PY" scripts/bench_collect.py capacity-row --n "$n" --load-json "$load" --emu-log "$log" \
+      --from-line "$((from + 1))" --to-line "$to" --load-seconds "$CAP_SECONDS" \
+      --summary-json "$json" \
+      --floor-ms "$FLOOR_MS" --out "$OUT/capacity.csv" --lag-csv "$OUT/capacity/lag_$n.csv"
+  done
+  mark capacity
+fi
+
+if stage virtual; then
+  echo "== Virtual-time speed: N = $VIRT_NODES, $VIRT_SECONDS simulated s, 1 frame/node/s"
+  rm -f "$OUT/virtual_speed.csv"
+  for n in $VIRT_NODES; do
+    "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" \
+      --csv "$OUT/virtual_speed.csv"
+  done
+  mark virtual
+fi
+
+if stage mix; then
+  echo "== Mixing kernel against the CPU's peak"
+  "$BENCH"/rfsitl_mix_bench --seconds "$MIX_SECONDS" --csv "$OUT/mix_kernel.csv"
+  mark mix
+fi
+
+# --- report -----------------------------------------------------------------------
+"$PY" scripts/bench_plots.py "$OUT"
+T_END=$(date +%s)
+if [ -n "$STAGES" ]; then
+  printf "key,value\nquick,%s\nwall_s,%s\nload_before,%s\nstages,%s\ncap_seconds,%s\n" \
+    "$QUICK" "$((T_END - T_START))" "$LOAD_BEFORE" "$STAGES" "$CAP_SECONDS" >"$OUT/run_info.csv"
+fi
+"$PY" scripts/bench_summary.py "$OUT" >"$OUT/summary.md"
+echo
+cat "$OUT/summary.md"
+echo "bench: results in $OUT/ ($((T_END - T_START)) s)"

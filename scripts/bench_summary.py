@@ -1,0 +1,250 @@
+#!/usr/bin/env python3
+"""Writes the benchmark's text summary (Markdown) from the CSV files in OUT.
+
+    /usr/bin/python3 scripts/bench_summary.py out/bench > out/bench/summary.md
+
+The run's facts (QUICK or full, wall time, load average before it) come from
+run_info.csv and the time per part from timings.csv, both written by the run.
+"""
+
+import argparse
+import datetime
+import math
+import os
+
+import bench_common as bc
+
+
+def fmt(v, digits=2, unit=""):
+    return "n/a" if v is None or v != v else f"{v:.{digits}f}{unit}"
+
+
+def ratio(paper, ours):
+    return "n/a" if ours != ours or ours <= 0 else f"{paper / ours:.0f}x"
+
+
+def met(ok):
+    return "n/a" if ok is None else ("yes" if ok else "**no**")
+
+
+def cpu_model():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return "unknown CPU"
+
+
+def fig4_stats(out):
+    stats = {}
+    for arch, path in bc.fig4_curves(out).items():
+        rtts, lost = bc.read_rtts(path)
+        stats[arch] = {"mean": bc.mean(rtts), "p10": bc.percentile(rtts, 0.1),
+                       "p90": bc.percentile(rtts, 0.9), "n": len(rtts), "lost": lost}
+    return stats
+
+
+def capacity_verdict(rows):
+    """(largest N keeping real time, its row, all smaller N kept it too)."""
+    good = [r for r in rows if r["keeps_real_time"] == "1"]
+    if not good:
+        return None, None, False
+    best = max(good, key=lambda r: int(r["n"]))
+    below = [r for r in rows if int(r["n"]) < int(best["n"])]
+    return int(best["n"]), best, all(r["keeps_real_time"] == "1" for r in below)
+
+
+def headline(out, floor):
+    f4 = fig4_stats(out)
+    f5 = {int(r["n"]): r for r in bc.read_rows(os.path.join(out, "fig5_rtt_vs_n.csv"))}
+    cap = bc.read_rows(os.path.join(out, "capacity.csv"))
+    virt = bc.read_rows(os.path.join(out, "virtual_speed.csv"))
+    mix = [r for r in bc.read_rows(os.path.join(out, "mix_kernel.csv")) if r["kind"] == "mix"]
+    n6 = f4.get("inprocess", {}).get("mean", math.nan)
+    n6_split = f4.get("split", {}).get("mean", math.nan)
+    n15 = bc.num(f5[15]["mean_ms"]) if 15 in f5 else math.nan
+    n15_p90 = bc.num(f5[15]["p90_ms"]) if 15 in f5 else math.nan
+    x = lambda v: f" ({v / floor:.2f}x floor)" if v == v and floor == floor else ""  # noqa: E731
+    lines = [
+        "| measure | paper (12 vCPU) | rfsitl (this machine) | paper / rfsitl | issue target "
+        "| met |",
+        "|---|---|---|---|---|---|",
+        f"| N = 6 mean RTT, one flowgraph / in-process | {bc.PAPER_N6_ONE_FLOWGRAPH_MS:.0f} ms | "
+        f"{fmt(n6, 2, ' ms')}{x(n6)} | {ratio(bc.PAPER_N6_ONE_FLOWGRAPH_MS, n6)} | "
+        f"<= {bc.TARGET_N6_MEAN_MS:.0f} ms | "
+        f"{met(None if n6 != n6 else n6 <= bc.TARGET_N6_MEAN_MS)} |",
+        f"| N = 6 mean RTT, split flowgraphs | {bc.PAPER_N6_SPLIT_MS:.0f} ms | "
+        + (f"{fmt(n6_split, 2, ' ms')} (split) | {ratio(bc.PAPER_N6_SPLIT_MS, n6_split)}"
+           if n6_split == n6_split else
+           f"{fmt(n6, 2, ' ms')} (in-process; no split curve yet) | "
+           f"{ratio(bc.PAPER_N6_SPLIT_MS, n6)}") + " | | |",
+        f"| N = 15 mean RTT | about {bc.PAPER_N15_SPLIT_MS:.0f} ms (split) | "
+        f"{fmt(n15, 2, ' ms')}{x(n15)} | {ratio(bc.PAPER_N15_SPLIT_MS, n15)} | "
+        f"<= {bc.TARGET_N15_MEAN_MS:.0f} ms | "
+        f"{met(None if n15 != n15 else n15 <= bc.TARGET_N15_MEAN_MS)} |",
+        f"| N = 15 p90 RTT | | {fmt(n15_p90, 2, ' ms')}{x(n15_p90)} | | "
+        f"<= {bc.TARGET_N15_P90_MS:.0f} ms | "
+        f"{met(None if n15_p90 != n15_p90 else n15_p90 <= bc.TARGET_N15_P90_MS)} |",
+    ]
+    if cap:
+        n_rt, row, monotone = capacity_verdict(cap)
+        tested = ", ".join(r["n"] for r in cap)
+        if n_rt is None:
+            ours = f"none of N = {tested}"
+        else:
+            ours = (f"N = {n_rt} of {tested}: delivery ratio "
+                    f"{fmt(bc.num(row['delivery_ratio']), 3)}, "
+                    f"RTT p90 {fmt(bc.num(row['rtt_p90_ms']), 1)} ms, worst lag "
+                    f"{fmt(bc.num(row['max_lag_ms']), 1)} ms"
+                    f"{'' if monotone else ' (a smaller N failed)'}")
+        lines.append(f"| real-time capacity, 1 ping/node/s | not real time | {ours} | | "
+                     f">= {bc.TARGET_CAPACITY_N} nodes | "
+                     f"{met(n_rt is not None and n_rt >= bc.TARGET_CAPACITY_N)} |")
+    for r in virt:
+        s = bc.num(r["speed_x"])
+        lines.append(f"| virtual-time speed, N = {r['nodes']}, 1 frame/node/s | | "
+                     f"{fmt(s, 1, 'x real time')} | | >= {bc.TARGET_VIRTUAL_SPEED:.0f}x | "
+                     f"{met(s >= bc.TARGET_VIRTUAL_SPEED) if r['nodes'] == '15' else 'n/a'} |")
+    big = [bc.num(r["fraction_of_peak"]) for r in mix if int(r["n_inputs"]) >= 32]
+    if big:
+        lines.append(f"| mixing kernel, N >= 32, worst case | | {100 * min(big):.1f}% of peak | | "
+                     f">= {100 * bc.TARGET_MIX_FRACTION:.0f}% | "
+                     f"{met(min(big) >= bc.TARGET_MIX_FRACTION)} |")
+    return lines
+
+
+def fig5_table(out):
+    rows = bc.read_rows(os.path.join(out, "fig5_rtt_vs_n.csv"))
+    if not rows:
+        return []
+    lines = ["| N | mean ms | p10 ms | p90 ms | mean / floor | p90 / floor | lost | worst lag ms "
+             "| late ticks |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['n']} | {fmt(bc.num(r['mean_ms']))} | {fmt(bc.num(r['p10_ms']))} | "
+                     f"{fmt(bc.num(r['p90_ms']))} | {fmt(bc.num(r['mean_x_floor']))} | "
+                     f"{fmt(bc.num(r['p90_x_floor']))} | {r['lost']}/{r['packets']} | "
+                     f"{fmt(bc.num(r['max_lag_ms']))} | {r['late_ticks']} "
+                     f"({fmt(100 * bc.num(r['late_tick_fraction']), 1)}%) |")
+    return lines
+
+
+def capacity_table(out):
+    rows = bc.read_rows(os.path.join(out, "capacity.csv"))
+    if not rows:
+        return []
+    lines = ["| N | real time | end lag ms | lag slope ms/s | worst lag ms | pings | "
+             "delivery ratio | round trips | RTT mean ms | RTT p50 | RTT p90 | RTT p99 | "
+             "lost: collision / half-duplex |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(
+            f"| {r['n']} | {'yes' if r['keeps_real_time'] == '1' else '**no**'} | "
+            f"{fmt(bc.num(r['end_lag_ms']))} | {fmt(bc.num(r['lag_slope_ms_per_s']), 3)} | "
+            f"{fmt(bc.num(r['max_lag_ms']), 1)} | {r['pings_sent']} | "
+            f"{fmt(bc.num(r['delivery_ratio']), 3)} | {fmt(bc.num(r['round_trip_ratio']), 3)} | "
+            f"{fmt(bc.num(r['rtt_mean_ms']))} | {fmt(bc.num(r['rtt_p50_ms']))} | "
+            f"{fmt(bc.num(r['rtt_p90_ms']))} | {fmt(bc.num(r['rtt_p99_ms']))} | "
+            f"{r['lost_collision']} / {r['lost_half_duplex']} |")
+    return lines
+
+
+def virtual_table(out):
+    rows = bc.read_rows(os.path.join(out, "virtual_speed.csv"))
+    if not rows:
+        return []
+    lines = ["| N | simulated s | wall s | speed | frames | delivered "
+             "| receiver-ticks run / skipped |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['nodes']} | {fmt(bc.num(r['virtual_s']), 1)} | "
+                     f"{fmt(bc.num(r['wall_s']))} | {fmt(bc.num(r['speed_x']), 1)}x | "
+                     f"{r['frames']} | {r['delivered']} | {r['receiver_ticks_run']} / "
+                     f"{r['receiver_ticks_skipped']} |")
+    return lines
+
+
+def mix_table(out):
+    rows = bc.read_rows(os.path.join(out, "mix_kernel.csv"))
+    if not rows:
+        return []
+    peaks = [r for r in rows if r["kind"] == "peak"]
+    lines = ["Peak (one thread): " + ", ".join(
+        f"{p['name']} {fmt(bc.num(p['gflops']), 1)} Gflop/s = "
+        f"{fmt(bc.num(p['cmac_per_s']) / 1e9)} G cMAC/s" for p in peaks) + ".", "",
+        "| N inputs | block | G cMAC/s | fraction of peak |", "|---|---|---|---|"]
+    for r in rows:
+        if r["kind"] == "mix":
+            lines.append(f"| {r['n_inputs']} | {r['block']} | "
+                         f"{fmt(bc.num(r['cmac_per_s']) / 1e9, 3)} | "
+                         f"{fmt(100 * bc.num(r['fraction_of_peak']), 1)}% |")
+    return lines
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out")
+    a = ap.parse_args()
+    out = a.out
+    info = {r["key"]: r["value"] for r in bc.read_rows(os.path.join(out, "run_info.csv"))}
+    quick = info.get("quick", "?")
+    wall_min = bc.num(info.get("wall_s")) / 60
+    floor = bc.floor_ms(out)
+    air = bc.read_rows(os.path.join(out, "airtime.csv"))
+    p = []
+    p.append("# rfsitl benchmark summary\n")
+    info_path = os.path.join(out, "run_info.csv")
+    when = os.path.getmtime(info_path) if os.path.exists(info_path) else None
+    when = datetime.datetime.fromtimestamp(when) if when else datetime.datetime.now()
+    p.append(f"{when.strftime('%Y-%m-%d %H:%M')}, {cpu_model()}, "
+             f"{os.cpu_count()} cores; {'QUICK smoke run' if quick == '1' else 'full run'}, "
+             f"{fmt(wall_min, 1)} min. GMSK at 1 Msps, 80-byte pings answered by 8-byte "
+             "acks, ticks of 250 samples, real time unless noted, default formation "
+             "(`rfsitl run --nodes N`), loopback TCP.\n")
+    timings = []
+    if os.path.exists(os.path.join(out, "timings.csv")):
+        with open(os.path.join(out, "timings.csv")) as f:
+            timings = [line.strip().split(",") for line in f if line.count(",") == 2]
+    if timings:
+        p.append("Time per part (1-minute load average at its end): "
+                 + ", ".join(f"{k} {v} s ({ld})" for k, v, ld in timings)
+                 + f"; load average before the run {info.get('load_before', '?')}. "
+                 "Anything else running on these cores (a load average above about 1 before "
+                 "the run) makes the real-time results worse than the emulator alone would "
+                 "be.\n")
+    if air:
+        r = air[-1]
+        p.append(f"**Air-time floor** (every case): {r['frame_samples']} + {r['ack_samples']} "
+                 f"samples at {float(r['sample_rate_hz']) / 1e6:g} Msps = {fmt(floor, 3)} ms.\n")
+    p.append("## Results beside the paper\n")
+    p += headline(out, floor)
+    p.append("")
+    if fig5_table(out):
+        p.append("## RTT against N (Fig. 5 analogue; `fig5_rtt_vs_n.csv`, `.png`)\n")
+        p += fig5_table(out) + [""]
+    if capacity_table(out):
+        p.append("## Real-time capacity (`capacity.csv`, `capacity.png`)\n")
+        p.append("Every node pings a random other node once per second (at a uniformly random "
+                 "time within each second), and the destination answers each ping with an ack; "
+                 f"{info.get('cap_seconds', '?')} s of real time. *Keeps real time*, from the emulator's own "
+                 "stats lines (one per second) printed while the load was sending: the median "
+                 "lag of the last 5 is under 50 ms, and the Theil-Sen slope of the lag over the "
+                 "load is under 0.5 ms/s (no growth); definition in scripts/bench_collect.py. "
+                 "Delivery ratio = frames delivered / frames sent, pings and acks (frames still "
+                 "queued 1 s after the last ping count as lost); round trips = pings acked "
+                 "within 1 s. Loss reasons from the emulator's counters.\n")
+        p += capacity_table(out) + [""]
+    if virtual_table(out):
+        p.append("## Virtual-time speed (`virtual_speed.csv`)\n")
+        p += virtual_table(out) + [""]
+    if mix_table(out):
+        p.append("## Mixing kernel (`mix_kernel.csv`, `mix_kernel.png`)\n")
+        p.append("channel::mix with every input active, one thread; 1 complex MAC = 8 flops.\n")
+        p += mix_table(out) + [""]
+    print("\n".join(p))
+
+
+if __name__ == "__main__":
+    main()
