@@ -90,11 +90,11 @@ TEST(Mixer, SingleInputIsComplexScaled) {
 }
 
 TEST(Mixer, MatchesStdComplexReferenceAcrossBlockAndTailLengths) {
-  // Lengths around the kernel's 8-sample block exercise both the blocked loop
+  // Lengths around the kernel's 16-sample block exercise both the blocked loop
   // and the scalar tail; a zero coefficient in the middle is skipped.
   const std::array<cf32, 4> coeffs{cf32{0.3f, -0.7f}, cf32{-1.1f, 0.2f}, cf32{0.0f, 0.0f},
                                    cf32{0.05f, 0.9f}};
-  for (std::size_t len : {0u, 1u, 7u, 8u, 9u, 16u, 37u, 1024u}) {
+  for (std::size_t len : {0u, 1u, 7u, 8u, 9u, 15u, 16u, 17u, 37u, 1024u}) {
     std::vector<std::vector<cf32>> x(coeffs.size(), std::vector<cf32>(len));
     for (std::size_t i = 0; i < x.size(); ++i) {
       for (std::size_t t = 0; t < len; ++t) {
@@ -117,6 +117,27 @@ TEST(Mixer, MatchesStdComplexReferenceAcrossBlockAndTailLengths) {
       EXPECT_NEAR(out[t].real(), want.real(), 1e-5) << "len " << len << " t " << t;
       EXPECT_NEAR(out[t].imag(), want.imag(), 1e-5) << "len " << len << " t " << t;
     }
+  }
+}
+
+TEST(Mixer, MoreInputsThanOneKernelGroupAreAllSummed) {
+  // 600 inputs: more than the 256 the kernel takes per call, so the sum is
+  // built group by group; input i is the constant (i + 1) with coefficient j.
+  constexpr std::size_t kInputs = 600;
+  constexpr std::size_t kLen = 40;
+  std::vector<std::vector<cf32>> x(kInputs);
+  std::vector<const cf32*> inputs;
+  std::vector<cf32> coeffs(kInputs, cf32{0.0f, 1.0f});
+  for (std::size_t i = 0; i < kInputs; ++i) {
+    x[i].assign(kLen, cf32{static_cast<float>(i + 1), 0.0f});
+    inputs.push_back(x[i].data());
+  }
+  std::vector<cf32> out(kLen);
+  mix(inputs, coeffs, out);
+  const float sum = kInputs * (kInputs + 1) / 2.0f;  // 180300, exact in float
+  for (const cf32& v : out) {
+    EXPECT_EQ(v.real(), 0.0f);
+    EXPECT_EQ(v.imag(), sum);
   }
 }
 
