@@ -104,6 +104,7 @@ class LockStepEngine final : public Engine {
       node.rx.assign(block_, cf32{});
       node.mix_inputs.reserve(n);
       active_.reserve(n);
+      runnable_.reserve(n);
       node.mix_coeffs.reserve(n);
       node.decoded.reserve(8);
       if (!s.channel.shared_noise && s.channel.noise_variance > 0.0) {
@@ -244,18 +245,30 @@ class LockStepEngine final : public Engine {
   void run_tick() {
     apply_positions();
     inject_traffic();
-    pool_.run([this](std::size_t w) { for_my_nodes(w, [this](std::size_t i) { tx_phase(i); }); });
+    // Waking the workers costs more than an idle transmitter's zero fill, so
+    // the TX phase runs in parallel only when several nodes were on the air.
+    if (active_.size() > kSerialTxLimit) {
+      pool_.run([this](std::size_t w) {
+        for (std::size_t i = w; i < nodes_.size(); i += pool_.size()) tx_phase(i);
+      });
+    } else {
+      for (std::size_t i = 0; i < nodes_.size(); ++i) tx_phase(i);
+    }
     record_transmissions();
-    if (shared_noise_ && any_receiver_runs()) shared_noise_->fill(shared_noise_buf_);
-    pool_.run([this](std::size_t w) { for_my_nodes(w, [this](std::size_t i) { rx_phase(i); }); });
+    plan_receivers();
+    if (shared_noise_ && !runnable_.empty()) shared_noise_->fill(shared_noise_buf_);
+    // Receivers that run are dealt round-robin to the workers: balanced whatever
+    // their indices are.
+    if (runnable_.size() > 1) {
+      pool_.run([this](std::size_t w) {
+        for (std::size_t j = w; j < runnable_.size(); j += pool_.size()) rx_phase(runnable_[j]);
+      });
+    } else if (runnable_.size() == 1) {
+      rx_phase(runnable_.front());
+    }
     handle_decodes();
     now_ += block_;
     ledger_->settle(now_, channel_);
-  }
-
-  template <typename F>
-  void for_my_nodes(std::size_t worker, F&& f) {
-    for (std::size_t i = worker; i < nodes_.size(); i += pool_.size()) f(i);
   }
 
   /// Per node, in parallel: start a queued frame if idle, produce B samples.
@@ -277,7 +290,9 @@ class LockStepEngine final : public Engine {
         node.started.emplace(serial, std::move(*next));
       }
     }
-    node.tx_samples = node.radio->transmit(node.tx);
+    // An idle transmitter's samples are never read (only active ones are
+    // mixed), so it produces none: no zero fill for silence.
+    node.tx_samples = node.radio->tx_busy() ? node.radio->transmit(node.tx) : 0;
     node.active = node.tx_samples > 0;
   }
 
@@ -322,23 +337,25 @@ class LockStepEngine final : public Engine {
     return false;
   }
 
-  bool any_receiver_runs() const {
+  /// Serially: which receivers run this tick (runnable_), and why the others do not.
+  void plan_receivers() {
+    runnable_.clear();
     for (std::size_t m = 0; m < nodes_.size(); ++m) {
-      if (receiver_must_run(m)) return true;
+      Node& node = nodes_[m];
+      if (node.tx_samples > 0) node.receiver_blanked = true;
+      if (receiver_must_run(m)) {
+        node.rx_tick = Node::RxTick::kRan;
+        runnable_.push_back(m);
+      } else {
+        node.rx_tick = blanked_whole_tick(node) ? Node::RxTick::kBlanked : Node::RxTick::kSkipped;
+      }
     }
-    return false;
   }
 
   /// Per receiver, in parallel: y_m = g (sum_{n != m} c_nm x_n + eta_m) over the
   /// samples after its own transmission, then decode.
   void rx_phase(std::size_t m) {
     Node& node = nodes_[m];
-    if (node.tx_samples > 0) node.receiver_blanked = true;
-    if (!receiver_must_run(m)) {
-      node.rx_tick = blanked_whole_tick(node) ? Node::RxTick::kBlanked : Node::RxTick::kSkipped;
-      return;
-    }
-    node.rx_tick = Node::RxTick::kRan;
     if (node.receiver_blanked) {
       node.radio->reset_receiver();
       node.receiver_blanked = false;
@@ -412,7 +429,9 @@ class LockStepEngine final : public Engine {
   channel::ChannelMatrix channel_;
   std::vector<NodeCounters> counters_;
   std::vector<Node> nodes_;
-  std::vector<std::size_t> active_;  // transmitters of the current tick
+  std::vector<std::size_t> active_;    // transmitters of the current tick
+  std::vector<std::size_t> runnable_;  // receivers that run in the current tick
+  static constexpr std::size_t kSerialTxLimit = 2;
   std::vector<NodeId> ids_;
   std::optional<FrameLedger> ledger_;
   TickClock clock_;
