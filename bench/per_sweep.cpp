@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "rfsitl/engine/engine.hpp"
@@ -74,24 +75,40 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--size", payload, "Net payload bytes per frame")->capture_default_str();
   app.add_option("--csv", csv, "Output CSV")->capture_default_str();
-  app.add_option("--only", only, "Measure only these curves (gmsk, ofdm6 ... ofdm54)");
+  app.add_option("--only", only,
+                 "Measure only these curves (gmsk, ofdm6 ... ofdm54, dsss-barker11-dbpsk, "
+                 "dsss-barker11-dqpsk, dsss-mseq31-dbpsk, dsss-mseq127-dbpsk)");
   CLI11_PARSE(app, argc, argv);
 
-  std::vector<std::pair<std::string, scenario::PhyConfig>> curves;
-  scenario::PhyConfig gmsk;
-  curves.emplace_back("gmsk", gmsk);
+  struct Curve {
+    std::string label;
+    scenario::PhyConfig phy;
+    double from_db;  // where the curve starts to matter
+  };
+  std::vector<Curve> curves;
+  curves.push_back({"gmsk", scenario::PhyConfig{}, from});
   for (unsigned rate : {6U, 9U, 12U, 18U, 24U, 36U, 48U, 54U}) {
     scenario::PhyConfig p;
     p.type = "ofdm";
     p.rate_mbps = rate;
-    curves.emplace_back("ofdm" + std::to_string(rate), p);
+    curves.push_back({"ofdm" + std::to_string(rate), p, from});
+  }
+  // DSSS at 1 sample per chip: the processing gain moves the curves left.
+  for (const auto& [code, modulation, start] :
+       {std::tuple{"barker11", "dbpsk", -6.0}, std::tuple{"barker11", "dqpsk", -2.0},
+        std::tuple{"mseq31", "dbpsk", -10.0}, std::tuple{"mseq127", "dbpsk", -16.0}}) {
+    scenario::PhyConfig p;
+    p.type = "dsss";
+    p.code = code;
+    p.modulation = modulation;
+    curves.push_back({std::string("dsss-") + code + "-" + modulation, p, std::min(from, start)});
   }
   std::ofstream out(csv);
   out << "phy,snr_db,frames,delivered,per\n";
-  for (const auto& [label, phy] : curves) {
+  for (const auto& [label, phy, start] : curves) {
     if (!only.empty() && std::find(only.begin(), only.end(), label) == only.end()) continue;
     unsigned clean = 0;  // stop a curve after three points without a single error
-    for (double snr = from; snr <= to + 1e-9 && clean < 3; snr += step) {
+    for (double snr = start; snr <= to + 1e-9 && clean < 3; snr += step) {
       const auto seed = static_cast<std::uint64_t>(std::llround((snr + 100.0) * 10.0));
       const Point p = measure(phy, label, snr, frames, payload, seed);
       const double per = 1.0 - static_cast<double>(p.delivered) / p.frames;

@@ -36,7 +36,26 @@ def gmsk_theory(snr_db):
     return 1.0 - (1.0 - ber) ** GMSK_BITS
 
 
-THEORY = {"gmsk": ("GMSK theory (uncoded)", gmsk_theory)}
+# DSSS with DBPSK at 1 sample per chip: differential detection of BPSK,
+# BER = exp(-Eb/N0) / 2, with Eb/N0 = L SNR for L chips per bit (the processing
+# gain). The CRCs cover the 13-byte header and the payload with its CRC-32
+# (8 * (13 + 80 + 4) = 776 bits).
+DSSS_BITS = 8 * (13 + 80 + 4)
+
+
+def dsss_dbpsk_theory(chips):
+    def per(snr_db):
+        ber = 0.5 * math.exp(-chips * 10 ** (snr_db / 10.0))
+        return 1.0 - (1.0 - ber) ** DSSS_BITS
+    return per
+
+
+THEORY = {
+    "gmsk": ("GMSK theory (uncoded)", gmsk_theory),
+    "dsss-barker11-dbpsk": ("DSSS DBPSK L=11 theory", dsss_dbpsk_theory(11)),
+    "dsss-mseq31-dbpsk": ("DSSS DBPSK L=31 theory", dsss_dbpsk_theory(31)),
+    "dsss-mseq127-dbpsk": ("DSSS DBPSK L=127 theory", dsss_dbpsk_theory(127)),
+}
 
 
 def crossing(points, target, floor=1e-9):
@@ -70,7 +89,7 @@ def main():
             frames = max(frames, int(row["frames"]))
     floor = 0.5 / frames if frames else 1e-4
 
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax = plt.subplots(figsize=(10, 6))
     print("| PHY | SNR at 10% PER | SNR at 1% PER | theory at 10% / 1% |")
     print("|---|---|---|---|")
     for name in sorted(curves, key=sort_key):

@@ -90,6 +90,7 @@ std::string format_position(const std::optional<Position>& p) {
 
 std::string describe_phy(const scenario::PhyConfig& p) {
   if (p.type == "ofdm") return "ofdm " + std::to_string(p.rate_mbps) + " Mbit/s";
+  if (p.type == "dsss") return "dsss " + p.code + " " + p.modulation;
   char buf[64];
   std::snprintf(buf, sizeof buf, "%s k=%u BT=%.2f", p.type.c_str(), p.samples_per_symbol,
                 static_cast<double>(p.bandwidth_time));

@@ -6,6 +6,7 @@
 // naming lines through the key -> line table that reading fills in.
 #include "rfsitl/scenario/scenario_loader.hpp"
 
+#include "rfsitl/phy/dsss/codes.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 
 #include <arpa/inet.h>
@@ -81,6 +82,8 @@ constexpr IntLimit kPayloadBytes{1, 65535};
 constexpr IntLimit kTxQueue{1, 65536};
 constexpr IntLimit kOfdmPayloadBytes{1, 4095 - 30};  // PSDU <= 4095 octets with MAC overhead
 constexpr IntLimit kRateMbps{1, 1000};
+constexpr IntLimit kSamplesPerChip{1, 8};
+constexpr std::array<std::string_view, 2> kDsssModulations{"dbpsk", "dqpsk"};
 constexpr std::array<std::string_view, 8> kOfdmRates{"6", "9", "12", "18", "24", "36", "48", "54"};
 constexpr IntLimit kThreads{0, 256};
 constexpr IntLimit kPort{0, 65535};
@@ -223,6 +226,13 @@ void check_phy(const Context& c, const PhyConfig& p, const std::string& key) {
   c.check_name(std::to_string(p.rate_mbps), key + ".rate_mbps", kOfdmRates);
   if (p.type == "ofdm") {
     c.check(p.max_payload_bytes, key + ".max_payload_bytes", kOfdmPayloadBytes);
+  }
+  c.check_name(p.modulation, key + ".modulation", kDsssModulations);
+  c.check(p.samples_per_chip, key + ".samples_per_chip", kSamplesPerChip);
+  try {
+    (void)phy::dsss::code_by_name(p.code);
+  } catch (const std::invalid_argument& e) {
+    c.fail(key + ".code", e.what());
   }
 }
 
@@ -496,6 +506,9 @@ void read_phy(Context& c, const Entry& at, PhyConfig& p) {
   sec.get("max_payload_bytes", p.max_payload_bytes, kPayloadBytes);
   sec.get("tx_queue_frames", p.tx_queue_frames, kTxQueue);
   sec.get("rate_mbps", p.rate_mbps, kRateMbps);
+  sec.get("code", p.code);
+  sec.get("modulation", p.modulation);
+  sec.get("samples_per_chip", p.samples_per_chip, kSamplesPerChip);
   sec.finish();
 }
 

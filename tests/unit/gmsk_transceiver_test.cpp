@@ -247,7 +247,7 @@ TEST(GmskTransceiver, EmptyAndOneBytePayloadsRoundTrip) {
 }
 
 TEST(GmskTransceiver, MakeTransceiverRejectsUnknownTypeNamingKnownOnes) {
-  EXPECT_EQ(known_phy_types(), (std::vector<std::string>{"gmsk", "ofdm"}));
+  EXPECT_EQ(known_phy_types(), (std::vector<std::string>{"dsss", "gmsk", "gmsk-liquid", "ofdm"}));
   scenario::PhyConfig config;
   EXPECT_EQ(make_transceiver(config)->max_payload(), config.max_payload_bytes);
   config.type = "ofdm-bogus";

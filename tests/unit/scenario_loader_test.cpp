@@ -226,8 +226,8 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
        "t.yaml:3: nodes[0].position: mixes lat/lon/alt with x/y/z; use one form"},
       {"nodes: []\n", "t.yaml:1: nodes: must list 1..250 nodes, got 0"},
       {"name: x\n", "t.yaml:1: nodes: required"},
-      {"nodes: [{id: 1}]\nphy:\n  type: dsss\n",
-       "t.yaml:3: phy.type: unknown 'dsss' (known: gmsk, ofdm)"},
+      {"nodes: [{id: 1}]\nphy:\n  type: lora\n",
+       "t.yaml:3: phy.type: unknown 'lora' (known: dsss, gmsk, gmsk-liquid, ofdm)"},
       {"nodes: [{id: 1}]\nchannel:\n  model: free_space\n",
        "t.yaml:3: channel.model: unknown 'free_space' (known: paper)"},
       {"nodes: [{id: 1}]\nchannel:\n  origin: {x: 1, y: 2}\n",
@@ -460,6 +460,27 @@ TEST(ParseScenario, NodePhyErrorsNameTheNodeKeyAndLine) {
             "54)");
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    phy: {type: ofdm, max_payload_bytes: 5000}\n"),
             "t.yaml:3: nodes[0].phy.max_payload_bytes: must be in 1..4065, got 5000");
+}
+
+}  // namespace
+}  // namespace rfsitl::scenario
+
+namespace rfsitl::scenario {
+namespace {
+
+TEST(ParseScenario, DsssNodeSettingsAreReadAndChecked) {
+  const Scenario s = parse_scenario(
+      "nodes:\n  - id: 1\n    phy: {type: dsss, code: mseq127, modulation: dqpsk, "
+      "samples_per_chip: 2}\n",
+      "t.yaml");
+  ASSERT_TRUE(s.nodes[0].phy.has_value());
+  EXPECT_EQ(s.nodes[0].phy->code, "mseq127");
+  EXPECT_EQ(s.nodes[0].phy->modulation, "dqpsk");
+  EXPECT_EQ(s.nodes[0].phy->samples_per_chip, 2U);
+  EXPECT_TRUE(error_of("nodes:\n  - id: 1\n    phy: {type: dsss, code: gold255}\n")
+                  .starts_with("t.yaml:3: nodes[0].phy.code: "));
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    phy: {type: dsss, modulation: d8psk}\n"),
+            "t.yaml:3: nodes[0].phy.modulation: unknown 'd8psk' (known: dbpsk, dqpsk)");
 }
 
 }  // namespace

@@ -13,8 +13,11 @@ namespace rfsitl::scenario {
 
 /// Transceiver type and parameters. Fields that a type does not use are ignored.
 struct PhyConfig {
-  std::string type = "gmsk";          ///< "gmsk" or "ofdm"
+  std::string type = "gmsk";          ///< "gmsk", "ofdm" or "dsss"
   unsigned rate_mbps = 6;             ///< ofdm: 802.11a/g rate at 20 MHz (6 ... 54)
+  std::string code = "barker11";      ///< dsss: barker11, mseq<N>, gold<N>[:k]
+  std::string modulation = "dbpsk";   ///< dsss: dbpsk or dqpsk
+  unsigned samples_per_chip = 1;      ///< dsss: 1..8
   unsigned samples_per_symbol = 2;    ///< k, >= 2
   unsigned filter_delay_symbols = 3;  ///< m, 1..16
   float bandwidth_time = 0.5F;        ///< BT, (0, 1)

@@ -1,0 +1,50 @@
+#include "rfsitl/phy/gmsk/crc.hpp"
+
+#include <array>
+
+namespace rfsitl::phy::gmsk {
+namespace {
+
+// Byte-at-a-time tables, built at compile time from the polynomials.
+constexpr std::array<std::uint16_t, 256> make_crc16_table() {
+  std::array<std::uint16_t, 256> t{};
+  for (unsigned b = 0; b < 256; ++b) {
+    auto v = static_cast<std::uint16_t>(b << 8);
+    for (int i = 0; i < 8; ++i) {
+      v = static_cast<std::uint16_t>((v & 0x8000U) != 0 ? (v << 1) ^ 0x1021U : v << 1);
+    }
+    t[b] = v;
+  }
+  return t;
+}
+
+constexpr std::array<std::uint32_t, 256> make_crc32_table() {
+  std::array<std::uint32_t, 256> t{};
+  for (std::uint32_t b = 0; b < 256; ++b) {
+    std::uint32_t v = b;
+    for (int i = 0; i < 8; ++i) v = (v & 1U) != 0 ? (v >> 1) ^ 0xEDB88320U : v >> 1;
+    t[b] = v;
+  }
+  return t;
+}
+
+constexpr auto kCrc16Table = make_crc16_table();
+constexpr auto kCrc32Table = make_crc32_table();
+
+}  // namespace
+
+std::uint16_t crc16(std::span<const std::uint8_t> bytes) {
+  std::uint16_t crc = 0xFFFF;
+  for (const std::uint8_t b : bytes) {
+    crc = static_cast<std::uint16_t>((crc << 8) ^ kCrc16Table[((crc >> 8) ^ b) & 0xFFU]);
+  }
+  return crc;
+}
+
+std::uint32_t crc32(std::span<const std::uint8_t> bytes) {
+  std::uint32_t crc = 0xFFFFFFFFU;
+  for (const std::uint8_t b : bytes) crc = (crc >> 8) ^ kCrc32Table[(crc ^ b) & 0xFFU];
+  return crc ^ 0xFFFFFFFFU;
+}
+
+}  // namespace rfsitl::phy::gmsk
