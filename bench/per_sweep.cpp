@@ -75,9 +75,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--size", payload, "Net payload bytes per frame")->capture_default_str();
   app.add_option("--csv", csv, "Output CSV")->capture_default_str();
-  app.add_option("--only", only,
-                 "Measure only these curves (gmsk, ofdm6 ... ofdm54, dsss-barker11-dbpsk, "
-                 "dsss-barker11-dqpsk, dsss-mseq31-dbpsk, dsss-mseq127-dbpsk)");
+  app.add_option(
+      "--only", only,
+      "Measure only these curves (gmsk, gmsk-liquid, ofdm6 ... ofdm54, dsss-barker11-dbpsk, "
+      "dsss-barker11-dqpsk, dsss-mseq31-dbpsk, dsss-mseq127-dbpsk)");
   CLI11_PARSE(app, argc, argv);
 
   struct Curve {
@@ -87,6 +88,9 @@ int main(int argc, char** argv) {
   };
   std::vector<Curve> curves;
   curves.push_back({"gmsk", scenario::PhyConfig{}, from});
+  scenario::PhyConfig liquid;
+  liquid.type = "gmsk-liquid";
+  curves.push_back({"gmsk-liquid", liquid, from});
   for (unsigned rate : {6U, 9U, 12U, 18U, 24U, 36U, 48U, 54U}) {
     scenario::PhyConfig p;
     p.type = "ofdm";

@@ -46,6 +46,7 @@ kill -INT "$EMU"
 wait "$EMU" || true
 trap - EXIT
 sed -n '/rfsitl summary/,$p' "$OUT/emulator.log"
-# Air-time floor at 1 Msps, k = 2: an 80-byte frame (1898 samples) + an 8-byte ack (746).
-/usr/bin/python3 scripts/plot_rtt.py "$OUT"/rtt_*.csv -o "$OUT/rtt_cdf.png" --floor-ms 2.644
+# The air-time floor: an 80-byte frame plus an 8-byte ack on the default PHY.
+FLOOR_MS=$(build/release/bench/rfsitl_airtime | tail -n 1 | cut -d, -f7)
+/usr/bin/python3 scripts/plot_rtt.py "$OUT"/rtt_*.csv -o "$OUT/rtt_cdf.png" --floor-ms "$FLOOR_MS"
 echo "demo: emulator log $OUT/emulator.log, counters $OUT/summary.json"

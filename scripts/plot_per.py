@@ -98,12 +98,15 @@ def main():
                             markersize=3, label=name)
         s10, s1 = crossing(pts, 0.1, floor), crossing(pts, 0.01, floor)
         theory = ""
-        if name in THEORY:
-            label, fn = THEORY[name]
-            xs = [x / 10 for x in range(int(pts[0][0] * 10), int(pts[-1][0] * 10) + 1)]
+        # Both GMSK implementations are compared with the one GMSK formula.
+        key = "gmsk" if name.startswith("gmsk") else name
+        if key in THEORY:
+            label, fn = THEORY[key]
+            xs = [x / 10 for x in range(int(pts[0][0] * 10) - 20, int(pts[-1][0] * 10) + 1)]
             tp = [(x, fn(x)) for x in xs]
-            ax.semilogy(xs, [max(p, floor) for _, p in tp], "--", color=line.get_color(),
-                        label=label)
+            if key == name:
+                ax.semilogy(xs, [max(p, floor) for _, p in tp], "--", color=line.get_color(),
+                            label=label)
             t10, t1 = crossing(tp, 0.1), crossing(tp, 0.01)
             theory = f"{t10:.1f} dB / {t1:.1f} dB" if t10 and t1 else ""
         fmt = lambda v: f"{v:.1f} dB" if v is not None else "n/a"  # noqa: E731
