@@ -1,29 +1,10 @@
 #include "rfsitl/phy/ofdm/fcs.hpp"
 
-#include <array>
+#include "rfsitl/common/crc.hpp"
 
 namespace rfsitl::phy::ofdm {
-namespace {
 
-constexpr std::array<std::uint32_t, 256> make_table() {
-  std::array<std::uint32_t, 256> t{};
-  for (std::uint32_t i = 0; i < 256; ++i) {
-    std::uint32_t c = i;
-    for (int k = 0; k < 8; ++k) c = (c & 1U) != 0 ? 0xEDB88320U ^ (c >> 1) : c >> 1;
-    t[i] = c;
-  }
-  return t;
-}
-
-constexpr std::array<std::uint32_t, 256> kTable = make_table();
-
-}  // namespace
-
-std::uint32_t crc32(std::span<const std::uint8_t> bytes) {
-  std::uint32_t c = 0xFFFFFFFFU;
-  for (const std::uint8_t b : bytes) c = kTable[(c ^ b) & 0xFFU] ^ (c >> 8);
-  return c ^ 0xFFFFFFFFU;
-}
+std::uint32_t crc32(std::span<const std::uint8_t> bytes) { return rfsitl::crc32(bytes); }
 
 std::vector<std::uint8_t> append_fcs(std::span<const std::uint8_t> frame) {
   std::vector<std::uint8_t> out(frame.begin(), frame.end());
