@@ -34,6 +34,8 @@
 #include <thread>
 #include <vector>
 
+#include "rfsitl/common/percentile.hpp"
+#include "rfsitl/common/probe_payload.hpp"
 #include "rfsitl/io/net_framing.hpp"
 
 namespace {
@@ -41,8 +43,8 @@ namespace {
 using namespace rfsitl;
 using Clock = std::chrono::steady_clock;
 
-constexpr std::uint8_t kPingMagic[4] = {'R', 'F', 'S', 'P'};
-constexpr std::uint8_t kAckMagic[4] = {'R', 'F', 'S', 'A'};
+constexpr ProbeMagic kPingMagic{'R', 'F', 'S', 'P'};
+constexpr ProbeMagic kAckMagic{'R', 'F', 'S', 'A'};
 
 struct Options {
   unsigned nodes = 8;
@@ -83,34 +85,6 @@ int connect_to(const std::string& host, std::uint16_t port, double timeout_s) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-}
-
-std::vector<std::uint8_t> tagged(const std::uint8_t (&magic)[4], std::uint32_t seq,
-                                 std::size_t size) {
-  std::vector<std::uint8_t> p(std::max<std::size_t>(size, 8), 0);
-  std::copy(magic, magic + 4, p.begin());
-  for (int i = 0; i < 4; ++i)
-    p[4 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(seq >> (8 * i));
-  for (std::size_t i = 8; i < p.size(); ++i) p[i] = static_cast<std::uint8_t>(i * 13 + seq);
-  return p;
-}
-
-std::optional<std::uint32_t> read_tag(const std::vector<std::uint8_t>& p,
-                                      const std::uint8_t (&magic)[4]) {
-  if (p.size() < 8 || !std::equal(magic, magic + 4, p.begin())) return std::nullopt;
-  std::uint32_t seq = 0;
-  for (int i = 0; i < 4; ++i) {
-    seq |= static_cast<std::uint32_t>(p[4 + static_cast<std::size_t>(i)]) << (8 * i);
-  }
-  return seq;
-}
-
-double percentile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return NAN;
-  const double pos = q * static_cast<double>(sorted.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const auto hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
 }
 
 /// One ping: who sent it to whom, when, and its fate.
@@ -218,7 +192,7 @@ class SwarmLoad {
                         std::nullopt, false});
     sent_at_.push_back(now);
     a.outstanding[seq] = records_.size() - 1;
-    send_frame(a, NetFrame{a.id, agents_[j].id, tagged(kPingMagic, seq, o_.size)});
+    send_frame(a, NetFrame{a.id, agents_[j].id, make_probe(kPingMagic, seq, o_.size)});
   }
 
   void receive(std::size_t i) {
@@ -232,11 +206,11 @@ class SwarmLoad {
     std::vector<io::FramingError> errors;
     a.parser.feed({buf, static_cast<std::size_t>(n)}, frames, errors);
     for (const NetFrame& f : frames) {
-      if (const auto seq = read_tag(f.payload, kPingMagic); seq && *seq < records_.size()) {
+      if (const auto seq = read_probe(f.payload, kPingMagic); seq && *seq < records_.size()) {
         records_[*seq].delivered = true;  // answer every ping heard, late ones included
-        send_frame(a, NetFrame{a.id, f.src, tagged(kAckMagic, *seq, o_.ack_size)});
+        send_frame(a, NetFrame{a.id, f.src, make_probe(kAckMagic, *seq, o_.ack_size)});
         ++acks_sent_;
-      } else if (const auto ack = read_tag(f.payload, kAckMagic); ack) {
+      } else if (const auto ack = read_probe(f.payload, kAckMagic); ack) {
         const auto it = a.outstanding.find(*ack);
         if (it == a.outstanding.end()) {
           ++stray_;

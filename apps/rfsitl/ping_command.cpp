@@ -23,6 +23,8 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "rfsitl/common/percentile.hpp"
+#include "rfsitl/common/probe_payload.hpp"
 #include "rfsitl/io/net_framing.hpp"
 
 namespace rfsitl::app {
@@ -30,8 +32,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr std::uint8_t kPingMagic[4] = {'R', 'F', 'P', '1'};
-constexpr std::uint8_t kAckMagic[4] = {'R', 'F', 'A', '1'};
+constexpr ProbeMagic kPingMagic{'R', 'F', 'P', '1'};
+constexpr ProbeMagic kAckMagic{'R', 'F', 'A', '1'};
 constexpr std::size_t kMaxPayload = 65535;
 
 struct PingOptions {
@@ -123,40 +125,13 @@ class AgentLink {
   io::NetFrameParser parser_;
 };
 
-std::vector<std::uint8_t> tagged(const std::uint8_t (&magic)[4], std::uint32_t seq,
-                                 std::size_t size) {
-  std::vector<std::uint8_t> p(std::max<std::size_t>(size, 8), 0);
-  std::copy(magic, magic + 4, p.begin());
-  for (int i = 0; i < 4; ++i) p[4 + i] = static_cast<std::uint8_t>(seq >> (8 * i));
-  for (std::size_t i = 8; i < p.size(); ++i) p[i] = static_cast<std::uint8_t>(i * 7 + seq);
-  p.resize(size < 8 ? 8 : size);
-  return p;
-}
-
-std::optional<std::uint32_t> read_tag(const std::vector<std::uint8_t>& p,
-                                      const std::uint8_t (&magic)[4]) {
-  if (p.size() < 8 || !std::equal(magic, magic + 4, p.begin())) return std::nullopt;
-  std::uint32_t seq = 0;
-  for (int i = 0; i < 4; ++i) seq |= static_cast<std::uint32_t>(p[4 + i]) << (8 * i);
-  return seq;
-}
-
-/// Linear-interpolated percentile (q in [0, 1]) of sorted values.
-double percentile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return NAN;
-  const double pos = q * static_cast<double>(sorted.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const auto hi = std::min(lo + 1, sorted.size() - 1);
-  return sorted[lo] + (pos - static_cast<double>(lo)) * (sorted[hi] - sorted[lo]);
-}
-
 /// Sends one ping and serves both agents until its ack returns or time runs out.
 std::optional<double> ping_once(AgentLink& a, AgentLink& b, const PingOptions& o,
                                 std::uint32_t seq) {
   const auto src = static_cast<NodeId>(o.src);
   const auto dst = static_cast<NodeId>(o.dst);
   const auto sent = Clock::now();
-  a.send(NetFrame{src, dst, tagged(kPingMagic, seq, o.size)});
+  a.send(NetFrame{src, dst, make_probe(kPingMagic, seq, o.size)});
   const auto deadline = sent + std::chrono::duration<double>(o.timeout_s);
   while (Clock::now() < deadline) {
     pollfd fds[2] = {{a.fd(), POLLIN, 0}, {b.fd(), POLLIN, 0}};
@@ -166,14 +141,14 @@ std::optional<double> ping_once(AgentLink& a, AgentLink& b, const PingOptions& o
     if (fds[1].revents != 0) {
       for (const NetFrame& f : b.receive()) {
         // B's agent answers every ping it hears, late ones included.
-        if (const auto s = read_tag(f.payload, kPingMagic); s && f.src == src) {
-          b.send(NetFrame{dst, src, tagged(kAckMagic, *s, 8)});
+        if (const auto s = read_probe(f.payload, kPingMagic); s && f.src == src) {
+          b.send(NetFrame{dst, src, make_probe(kAckMagic, *s, 8)});
         }
       }
     }
     if (fds[0].revents != 0) {
       for (const NetFrame& f : a.receive()) {
-        if (const auto s = read_tag(f.payload, kAckMagic); s && *s == seq && f.src == dst) {
+        if (const auto s = read_probe(f.payload, kAckMagic); s && *s == seq && f.src == dst) {
           return std::chrono::duration<double, std::milli>(Clock::now() - sent).count();
         }
       }
