@@ -30,8 +30,8 @@ const std::map<std::string, Factory>& registry() {
        }},
       {"dsss",
        [](const scenario::PhyConfig& c) {
-         return make_dsss_transceiver(
-             DsssSettings{c.code, c.modulation, c.samples_per_chip, c.max_payload_bytes});
+         return make_dsss_transceiver(DsssSettings{c.code, c.modulation, c.samples_per_chip,
+                                                   c.max_payload_bytes, c.adaptive});
        }},
       {"ofdm",
        [](const scenario::PhyConfig& c) {

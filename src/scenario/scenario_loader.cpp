@@ -509,6 +509,7 @@ void read_phy(Context& c, const Entry& at, PhyConfig& p) {
   sec.get("code", p.code);
   sec.get("modulation", p.modulation);
   sec.get("samples_per_chip", p.samples_per_chip, kSamplesPerChip);
+  sec.get("adaptive", p.adaptive);
   sec.finish();
 }
 

@@ -1,23 +1,25 @@
 """DSSS nodes through the real emulator: pairs with different codes and
-modulations exchange 80-byte frames and replies."""
+modulations (one with code adaptation on) exchange 80-byte frames and replies."""
 
 import unittest
 
 from harness import Emulator, assert_accounted
 
-PAIRS = (("barker11", "dbpsk"), ("barker11", "dqpsk"), ("mseq31", "dbpsk"))
+PAIRS = (("barker11", "dbpsk"), ("barker11", "dqpsk"), ("mseq31", "dbpsk"),
+         ("gold31", "dbpsk", True))
 
 
 class DsssTest(unittest.TestCase):
     def test_two_dsss_nodes_exchange_80_byte_frames_for_each_code(self):
         nodes, phys = {}, {}
-        for i, (code, modulation) in enumerate(PAIRS):
+        for i, (code, modulation, *adaptive) in enumerate(PAIRS):
             for j, node_id in enumerate((2 * i + 1, 2 * i + 2)):
                 nodes[node_id] = (4.0 * i, 5.0 * j, 10.0)
-                phys[node_id] = {"type": "dsss", "code": code, "modulation": modulation}
+                phys[node_id] = {"type": "dsss", "code": code, "modulation": modulation,
+                                 "adaptive": "true" if adaptive else "false"}
         with Emulator(nodes, node_phy=phys) as emu:
             agents = {n: emu.agent(n) for n in nodes}
-            for i, (code, modulation) in enumerate(PAIRS):
+            for i, (code, modulation, *_) in enumerate(PAIRS):
                 src, dst = 2 * i + 1, 2 * i + 2
                 payload = bytes((i * 11 + k) & 0xFF for k in range(80))
                 agents[src].send(src, dst, payload)

@@ -471,12 +471,13 @@ namespace {
 TEST(ParseScenario, DsssNodeSettingsAreReadAndChecked) {
   const Scenario s = parse_scenario(
       "nodes:\n  - id: 1\n    phy: {type: dsss, code: mseq127, modulation: dqpsk, "
-      "samples_per_chip: 2}\n",
+      "samples_per_chip: 2, adaptive: true}\n",
       "t.yaml");
   ASSERT_TRUE(s.nodes[0].phy.has_value());
   EXPECT_EQ(s.nodes[0].phy->code, "mseq127");
   EXPECT_EQ(s.nodes[0].phy->modulation, "dqpsk");
   EXPECT_EQ(s.nodes[0].phy->samples_per_chip, 2U);
+  EXPECT_TRUE(s.nodes[0].phy->adaptive);
   EXPECT_TRUE(error_of("nodes:\n  - id: 1\n    phy: {type: dsss, code: gold255}\n")
                   .starts_with("t.yaml:3: nodes[0].phy.code: "));
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    phy: {type: dsss, modulation: d8psk}\n"),

@@ -18,6 +18,7 @@ struct PhyConfig {
   std::string code = "barker11";      ///< dsss: barker11, mseq<N>, gold<N>[:k]
   std::string modulation = "dbpsk";   ///< dsss: dbpsk or dqpsk
   unsigned samples_per_chip = 1;      ///< dsss: 1..8
+  bool adaptive = false;              ///< dsss: cognitive code adaptation (Gold codes)
   unsigned samples_per_symbol = 2;    ///< k, >= 2
   unsigned filter_delay_symbols = 3;  ///< m, 1..16
   float bandwidth_time = 0.5F;        ///< BT, (0, 1)

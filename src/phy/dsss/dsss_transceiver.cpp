@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <deque>
 #include <optional>
 #include <stdexcept>
 #include <vector>
 
+#include "rfsitl/phy/dsss/code_adaptation.hpp"
 #include "rfsitl/phy/dsss/codes.hpp"
 #include "rfsitl/phy/dsss/differential_psk.hpp"
 #include "rfsitl/phy/dsss/frame_format.hpp"
@@ -43,6 +45,14 @@ void check_numbers(const DsssSettings& s) {
     throw std::invalid_argument("dsss max_payload_bytes: " + std::to_string(s.max_payload_bytes) +
                                 " is outside 1.." + std::to_string(dsss::kMaxPayloadBytes));
   }
+  if (s.adapt_windows < 1) throw std::invalid_argument("dsss adapt_windows: must be >= 1");
+  if (!(s.adapt_hysteresis_db >= 0.0) || !std::isfinite(s.adapt_hysteresis_db)) {
+    throw std::invalid_argument("dsss adapt_hysteresis_db: must be finite and >= 0");
+  }
+  if (s.adapt_max_candidates < 1 || s.adapt_max_candidates > 1024) {
+    throw std::invalid_argument("dsss adapt_max_candidates: " +
+                                std::to_string(s.adapt_max_candidates) + " is outside 1..1024");
+  }
 }
 
 class DsssTransceiverImpl final : public DsssTransceiver, private dsss::FrameSink {
@@ -54,6 +64,8 @@ class DsssTransceiverImpl final : public DsssTransceiver, private dsss::FrameSin
     listen_ = {0};
     receiver_ = std::make_unique<dsss::DsssReceiver>(
         dsss::ReceiverSettings{s.samples_per_chip, s.max_payload_bytes}, listen_codes(listen_));
+    candidates_ = {0};
+    if (s.adaptive) start_adaptation();
   }
 
   std::size_t max_payload() const override { return settings_.max_payload_bytes; }
@@ -81,6 +93,7 @@ class DsssTransceiverImpl final : public DsssTransceiver, private dsss::FrameSin
     h.dst = tag.dst;
     h.serial = tag.serial;
     h.control = tx_control_;
+    if (adaptive_) own_id_ = tag.src;
     spreader_.start(book_[tx_code(tag.dst)].chips, settings_.samples_per_chip,
                     dsss::frame_symbols(h, payload));
     return spreader_.remaining();
@@ -93,12 +106,17 @@ class DsssTransceiverImpl final : public DsssTransceiver, private dsss::FrameSin
   }
 
   void receive(std::span<const cf32> in, RxHandler& handler) override {
+    if (adaptive_) measure(in);
     handler_ = &handler;
     receiver_->push(in, *this);
     handler_ = nullptr;
+    if (adaptive_) adapt();
   }
 
-  void reset_receiver() override { receiver_->reset(); }
+  void reset_receiver() override {
+    receiver_->reset();
+    if (adaptive_) lag_acc_->break_stream();
+  }
   bool rx_busy() const override { return receiver_->busy(); }
   // The last symbol is despread at the frame's last sample; with S >= 2 the
   // early-late gate also reads the sample after it.
@@ -144,6 +162,11 @@ class DsssTransceiverImpl final : public DsssTransceiver, private dsss::FrameSin
 
   const DsssRxInfo& last_rx_info() const override { return info_; }
 
+  std::vector<std::size_t> listen_codes() const override { return listen_; }
+  const DsssAdaptationStatus& adaptation_status() const override { return status_; }
+  std::size_t candidate_code(std::size_t index) const override { return candidates_.at(index); }
+  std::size_t candidate_count() const override { return candidates_.size(); }
+
  private:
   // Despread SNR at which 80-byte frames see 10% PER (see above).
   static constexpr double kDbpskDespreadSnrDb = 9.2;
@@ -167,6 +190,7 @@ class DsssTransceiverImpl final : public DsssTransceiver, private dsss::FrameSin
   void on_frame(const dsss::ReceivedFrame& f) override {
     info_ = DsssRxInfo{f.code_id, f.header_valid ? f.header.control : std::uint16_t{0},
                        f.despread_snr_db};
+    if (adaptive_ && f.header_valid) on_adaptive_frame(f);
     if (handler_ == nullptr) return;
     RxEvent ev;
     ev.header_valid = f.header_valid;
@@ -178,6 +202,145 @@ class DsssTransceiverImpl final : public DsssTransceiver, private dsss::FrameSin
     ev.symbols = f.symbols;
     handler_->on_rx(ev);
   }
+
+  // ---- cognitive code adaptation (see dsss_transceiver.hpp) ----
+
+  struct Block {
+    std::uint64_t start = 0;  // first sample (receiver time)
+    std::uint64_t end = 0;    // one past the last
+    dsss::LagSums sums;
+  };
+
+  void start_adaptation() {
+    adaptive_ = true;
+    status_.enabled = true;
+    const auto list = dsss::adaptation_candidates(book_.front(), settings_.adapt_max_candidates);
+    std::vector<std::vector<dsss::Chip>> chips;
+    candidates_.clear();
+    for (const auto& c : list) {
+      candidates_.push_back(c.chips == book_.front().chips ? 0 : add_code(c.name));
+      chips.push_back(c.chips);
+    }
+    selector_ = std::make_unique<dsss::CodeSelector>(std::move(chips));
+    const std::size_t length = book_.front().chips.size();
+    lag_acc_ =
+        std::make_unique<dsss::LagAccumulator>(length, std::max<std::size_t>(1, length / 16));
+    total_ = dsss::LagSums(length);
+    hold_samples_ = frame_samples(settings_.max_payload_bytes) + period();
+    block_samples_ = std::max<std::size_t>(4096, hold_samples_ / 32);
+    open_.sums = dsss::LagSums(length);
+    last_code_from_.fill(kNoCode);
+    set_tx_control(dsss::encode_control({true, 0, 0}));
+  }
+
+  // Chip-rate samples (one per chip) into the open block; full blocks to the
+  // hold-back queue.
+  void measure(std::span<const cf32> in) {
+    const unsigned s = settings_.samples_per_chip;
+    chips_.clear();
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      if ((rx_time_ + i) % s == 0) chips_.push_back(in[i]);
+    }
+    lag_acc_->push(chips_);
+    rx_time_ += in.size();
+    if (rx_time_ - open_.start >= block_samples_) {
+      open_.sums = lag_acc_->take();
+      open_.end = rx_time_;
+      held_.push_back(std::move(open_));
+      open_ = Block{rx_time_, rx_time_, dsss::LagSums(book_.front().chips.size())};
+    }
+  }
+
+  // A frame of this node's own link ended now: forget what it overlapped.
+  void discard_own_frame(std::size_t length_bytes) {
+    const std::uint64_t span = frame_samples(length_bytes) + 2 * period();
+    const std::uint64_t start = rx_time_ > span ? rx_time_ - span : 0;
+    lag_acc_->take();
+    open_.start = rx_time_;
+    while (!held_.empty() && held_.back().end > start) held_.pop_back();
+  }
+
+  void adapt() {
+    while (!held_.empty() && held_.front().end + hold_samples_ <= rx_time_) {
+      total_.add(held_.front().sums);
+      held_.pop_front();
+    }
+    if (total_.windows < settings_.adapt_windows) return;
+    const std::vector<cf32> lags = dsss::normalized_lags(total_);
+    total_.clear();
+    const auto choice = selector_->choose(lags, preferred_, settings_.adapt_hysteresis_db);
+    ++status_.decisions;
+    status_.default_sinr_db = selector_->sinr_db(0, lags);
+    status_.preferred_sinr_db = choice.sinr_db;
+    if (choice.index == preferred_) return;
+    if (preferred_ != 0) previous_ = preferred_;
+    if (previous_ == choice.index) previous_.reset();
+    preferred_ = choice.index;
+    epoch_ = static_cast<std::uint8_t>((epoch_ + 1) % (dsss::kMaxControlEpoch + 1));
+    ++status_.switches;
+    apply_preference();
+  }
+
+  void apply_preference() {
+    set_tx_control(dsss::encode_control({true, static_cast<std::uint16_t>(preferred_), epoch_}));
+    std::vector<std::size_t> listen = {0};
+    if (preferred_ != 0) listen.push_back(candidates_[preferred_]);
+    if (previous_ && *previous_ != 0) listen.push_back(candidates_[*previous_]);
+    set_listen_codes(listen);
+    status_.preferred = candidates_[preferred_];
+    status_.has_previous = previous_.has_value();
+    status_.previous = previous_ ? candidates_[*previous_] : 0;
+    status_.epoch = epoch_;
+  }
+
+  void on_adaptive_frame(const dsss::ReceivedFrame& f) {
+    const NodeId src = f.header.src;
+    // Transmitter side: the sender's request says which code to send it on.
+    const auto ctrl = dsss::decode_control(f.header.control);
+    if (ctrl && ctrl->code_request && ctrl->code_index < candidates_.size() &&
+        src != kBroadcastId) {
+      const std::uint32_t key = (std::uint32_t{ctrl->code_index} << 4) | ctrl->epoch;
+      if (last_request_[src] != key) {
+        last_request_[src] = key;
+        set_tx_code(src, candidates_[ctrl->code_index]);
+      }
+    }
+    // Receiver side: frames of the own link are not interference.
+    if (!own_id_ || f.header.dst != *own_id_) return;
+    discard_own_frame(f.header.length);
+    if (!f.payload_valid) return;
+    last_code_from_[src] = f.code_id;
+    if (previous_ && preferred_ != 0 && f.code_id == candidates_[preferred_]) {
+      const std::size_t old = candidates_[*previous_];
+      const bool someone_on_old = std::any_of(last_code_from_.begin(), last_code_from_.end(),
+                                              [&](std::size_t c) { return c == old; });
+      if (!someone_on_old) {
+        previous_.reset();
+        apply_preference();
+      }
+    }
+  }
+
+  static constexpr std::size_t kNoCode = static_cast<std::size_t>(-1);
+
+  bool adaptive_ = false;
+  std::vector<std::size_t> candidates_;  // candidate index -> book index
+  std::unique_ptr<dsss::CodeSelector> selector_;
+  std::unique_ptr<dsss::LagAccumulator> lag_acc_;
+  std::vector<cf32> chips_;
+  std::uint64_t rx_time_ = 0;
+  std::size_t hold_samples_ = 0;
+  std::size_t block_samples_ = 0;
+  Block open_;
+  std::deque<Block> held_;
+  dsss::LagSums total_;
+  std::size_t preferred_ = 0;  // candidate indices
+  std::optional<std::size_t> previous_;
+  std::uint8_t epoch_ = 0;
+  std::optional<NodeId> own_id_;
+  std::array<std::size_t, 256> last_code_from_{};
+  std::array<std::uint32_t, 256> last_request_{};
+  DsssAdaptationStatus status_;
 
   DsssSettings settings_;
   Modulation modulation_;
