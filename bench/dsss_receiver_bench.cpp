@@ -16,40 +16,20 @@
 #include <string>
 #include <vector>
 
+#include "bench_signals.hpp"
 #include "rfsitl/phy/dsss/dsss_transceiver.hpp"
 
 namespace {
 
 using namespace rfsitl;
 
-struct CountingHandler : phy::RxHandler {
-  std::size_t valid = 0;
-  void on_rx(const phy::RxEvent& ev) override { valid += ev.payload_valid ? 1 : 0; }
-};
-
-std::vector<cf32> noise(std::size_t n, float variance, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> g(0.0F, std::sqrt(variance / 2.0F));
-  std::vector<cf32> v(n);
-  for (auto& s : v) s = {g(rng), g(rng)};
-  return v;
-}
+using bench::CountingHandler;
+using bench::noise;
 
 /// Noise 10 dB below unit power with back-to-back frames; *count: frames in it.
 std::vector<cf32> frames(const phy::DsssSettings& s, std::size_t n, std::size_t* count) {
   auto tx = phy::make_dsss_transceiver(s);
-  std::vector<cf32> v = noise(n, 0.1F, 7);
-  const std::vector<std::uint8_t> payload(80, 0x5A);
-  const std::size_t len = tx->frame_samples(payload.size());
-  std::vector<cf32> f(len);
-  *count = 0;
-  for (std::size_t pos = 500; pos + len <= n; pos += len + 500) {
-    tx->start_frame({1, 2, static_cast<std::uint32_t>(*count)}, payload);
-    tx->transmit(f);
-    for (std::size_t i = 0; i < len; ++i) v[pos + i] += f[i];
-    ++*count;
-  }
-  return v;
+  return bench::frames(*tx, n, 0.1F, 500, count);
 }
 
 /// Median samples/s of a fresh receiver listening on `listen` codes.

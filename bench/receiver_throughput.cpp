@@ -12,42 +12,19 @@
 #include <string>
 #include <vector>
 
+#include "bench_signals.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 
 namespace {
 
 using namespace rfsitl;
 
-struct CountingHandler : phy::RxHandler {
-  std::size_t valid = 0;
-  void on_rx(const phy::RxEvent& ev) override { valid += ev.payload_valid ? 1 : 0; }
-};
-
-std::vector<cf32> noise(std::size_t n, float variance, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> g(0.0F, std::sqrt(variance / 2.0F));
-  std::vector<cf32> v(n);
-  for (auto& s : v) s = {g(rng), g(rng)};
-  return v;
-}
+using bench::CountingHandler;
+using bench::noise;
 
 std::vector<cf32> frames(const scenario::PhyConfig& phy, std::size_t n, std::size_t* count) {
   auto tx = phy::make_transceiver(phy);
-  std::vector<cf32> v = noise(n, 1e-3F, 7);  // 30 dB below the unit-power signal
-  std::vector<std::uint8_t> payload(80, 0x5A);
-  std::size_t pos = 200;
-  *count = 0;
-  for (std::uint32_t serial = 0;; ++serial) {
-    const std::size_t len = tx->frame_samples(payload.size());
-    if (pos + len > n) break;
-    tx->start_frame({1, 2, serial}, payload);
-    std::vector<cf32> f(len);
-    tx->transmit(f);
-    for (std::size_t i = 0; i < len; ++i) v[pos + i] += f[i];
-    pos += len + 200;
-    ++*count;
-  }
-  return v;
+  return bench::frames(*tx, n, 1e-3F, 200, count);  // 30 dB below the unit-power signal
 }
 
 /// Median samples/s of feeding `input` in 250-sample ticks to a fresh receiver.
@@ -80,21 +57,30 @@ int main(int argc, char** argv) {
 
   std::vector<std::pair<std::string, scenario::PhyConfig>> phys;
   phys.emplace_back("gmsk", scenario::PhyConfig{});
+  scenario::PhyConfig liquid;
+  liquid.type = "gmsk-liquid";
+  phys.emplace_back("gmsk-liquid", liquid);
   for (unsigned r : {6U, 24U, 54U}) {
     scenario::PhyConfig p;
     p.type = "ofdm";
     p.rate_mbps = r;
     phys.emplace_back("ofdm" + std::to_string(r), p);
   }
+  for (const char* code : {"barker11", "mseq127"}) {
+    scenario::PhyConfig p;
+    p.type = "dsss";
+    p.code = code;
+    phys.emplace_back(std::string("dsss-") + code, p);
+  }
   const std::vector<cf32> quiet = noise(n, 1.0F, 3);
-  std::printf("%-8s %16s %22s %10s\n", "phy", "noise [Msps]", "with frames [Msps]", "decoded");
+  std::printf("%-13s %16s %22s %10s\n", "phy", "noise [Msps]", "with frames [Msps]", "decoded");
   for (const auto& [name, phy] : phys) {
     std::size_t sent = 0;
     std::size_t valid = 0;
     const std::vector<cf32> busy = frames(phy, n, &sent);
     const double on_noise = rate(phy, quiet, &valid);
     const double on_frames = rate(phy, busy, &valid);
-    std::printf("%-8s %16.2f %22.2f %5zu/%-5zu\n", name.c_str(), on_noise / 1e6, on_frames / 1e6,
+    std::printf("%-13s %16.2f %22.2f %5zu/%-5zu\n", name.c_str(), on_noise / 1e6, on_frames / 1e6,
                 valid, sent);
   }
   return 0;

@@ -4,7 +4,9 @@
 
 namespace rfsitl::phy::ofdm {
 
-std::uint32_t crc32(std::span<const std::uint8_t> bytes) { return rfsitl::crc32(bytes); }
+std::uint32_t crc32(std::span<const std::uint8_t> bytes) {
+  return rfsitl::crc32(bytes);
+}
 
 std::vector<std::uint8_t> append_fcs(std::span<const std::uint8_t> frame) {
   std::vector<std::uint8_t> out(frame.begin(), frame.end());
