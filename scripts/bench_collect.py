@@ -30,21 +30,13 @@ import os
 import re
 import statistics
 
+from bench_common import percentile
+
 END_SAMPLES = 5
 MAX_END_LAG_MS = 50.0
 MAX_SLOPE_MS_PER_S = 0.5
 STATS_RE = re.compile(
     r"^\[stats\] virtual ([\d.]+) s, wall ([\d.]+) s, lag ([\d.]+) ms \(max ([\d.]+) ms\)")
-
-
-def percentile(sorted_values, q):
-    """Linear-interpolated percentile, as `rfsitl ping` computes it."""
-    if not sorted_values:
-        return math.nan
-    pos = q * (len(sorted_values) - 1)
-    lo = math.floor(pos)
-    hi = min(lo + 1, len(sorted_values) - 1)
-    return sorted_values[lo] + (pos - lo) * (sorted_values[hi] - sorted_values[lo])
 
 
 def read_summary(path, tick_samples=250, fs=1e6):

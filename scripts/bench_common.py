@@ -56,6 +56,7 @@ def floor_ms(out):
 
 
 def percentile(sorted_values, q):
+    """Linear-interpolated percentile, as `rfsitl ping` computes it."""
     if not sorted_values:
         return math.nan
     pos = q * (len(sorted_values) - 1)
