@@ -11,4 +11,7 @@ std::function<int()> add_run_command(CLI::App& parent);
 /// Registers `rfsitl ping` on `parent`.
 std::function<int()> add_ping_command(CLI::App& parent);
 
+/// Registers `rfsitl node`: one node's transceiver in its own process.
+std::function<int()> add_node_command(CLI::App& parent);
+
 }  // namespace rfsitl::app

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "rfsitl 0.1.0");
   auto run = rfsitl::app::add_run_command(app);
   auto ping = rfsitl::app::add_ping_command(app);
+  auto node = rfsitl::app::add_node_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -19,5 +20,6 @@ int main(int argc, char** argv) {
   }
   if (app.got_subcommand("run")) return run();
   if (app.got_subcommand("ping")) return ping();
+  if (app.got_subcommand("node")) return node();
   return 2;
 }

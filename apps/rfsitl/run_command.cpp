@@ -19,6 +19,7 @@
 
 #include "commands.hpp"
 #include "rfsitl/engine/engine.hpp"
+#include "rfsitl/external/external_runtime.hpp"
 #include "rfsitl/io/node_servers.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
@@ -41,6 +42,9 @@ struct RunOptions {
   std::optional<unsigned> threads;
   std::optional<double> noise_db;
   std::optional<double> stats_interval_s;
+  std::optional<std::string> arch;
+  std::optional<std::string> external_socket;
+  std::optional<double> external_timeout_s;
   bool no_skip = false;
   bool shared_noise = false;
   std::string summary_json;
@@ -71,6 +75,17 @@ scenario::Scenario build_scenario(const RunOptions& o) {
     s.traffic.clear();  // it named the file's nodes
     if (o.scenario_path.empty()) s.name = "default-formation";
   }
+  if (o.arch) {
+    // Every built-in transceiver moves: threads = in the emulator, split = one
+    // `rfsitl node` process each. External programs stay what they are.
+    const std::string process = *o.arch == "split" ? "child" : "inline";
+    s.phy.process = process;
+    for (auto& n : s.nodes) {
+      if (n.phy) n.phy->process = process;
+    }
+  }
+  if (o.external_socket) s.external.socket_path = *o.external_socket;
+  if (o.external_timeout_s) s.external.reply_timeout_s = *o.external_timeout_s;
   scenario::validate_scenario(s);
   return s;
 }
@@ -89,6 +104,12 @@ std::string format_position(const std::optional<Position>& p) {
 }
 
 std::string describe_phy(const scenario::PhyConfig& p) {
+  if (p.type == "external") return "external program";
+  if (p.process == "child") {
+    scenario::PhyConfig inline_phy = p;
+    inline_phy.process = "inline";
+    return describe_phy(inline_phy) + " [child]";
+  }
   if (p.type == "ofdm") return "ofdm " + std::to_string(p.rate_mbps) + " Mbit/s";
   if (p.type == "dsss") return "dsss " + p.code + " " + p.modulation;
   char buf[64];
@@ -105,11 +126,14 @@ void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
       s.name.c_str(), s.nodes.size(), s.timing.sample_rate_hz, s.timing.tick_samples, tick_ms,
       s.timing.mode == scenario::TimeMode::kRealTime ? "real time" : "virtual time", s.timing.speed,
       10.0 * std::log10(s.channel.noise_variance), static_cast<unsigned long long>(s.seed));
-  for (const auto& n : s.nodes) {
-    std::printf("  node %3u: %-18s net %s:%u  location %s:%u  start %s\n", n.id,
-                describe_phy(n.phy ? *n.phy : s.phy).c_str(), sc.bind_address.c_str(),
-                io::NodeServers::net_port(sc, n.id), sc.bind_address.c_str(),
-                io::NodeServers::loc_port(sc, n.id), format_position(n.initial_position).c_str());
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const auto& n = s.nodes[i];
+    const bool own_net = s.phy_of(i).type != "external";
+    std::printf("  node %3u: %-26s net %s:%u%s  location %s:%u  start %s\n", n.id,
+                describe_phy(s.phy_of(i)).c_str(), sc.bind_address.c_str(),
+                io::NodeServers::net_port(sc, n.id), own_net ? "" : " (its program's)",
+                sc.bind_address.c_str(), io::NodeServers::loc_port(sc, n.id),
+                format_position(n.initial_position).c_str());
   }
 }
 
@@ -193,6 +217,32 @@ void print_summary(engine::Engine& e) {
   std::fflush(stdout);
 }
 
+/// Lock-step needs everyone at the start: waits (Ctrl-C aware) until every
+/// external node has joined or external.start_timeout_s passed. Nodes that did
+/// not join start silent and may join later. False when interrupted.
+bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenario::Scenario& s,
+                             const sigset_t& signals) {
+  std::printf("rfsitl: external socket %s; waiting up to %.0f s for the external nodes to join\n",
+              ext.socket_path().c_str(), s.external.start_timeout_s);
+  std::fflush(stdout);
+  const timespec poll{0, 20'000'000};
+  for (double waited = 0.0;; waited += 0.02) {
+    const auto missing = ext.hub().never_joined();
+    if (missing.empty()) return true;
+    const int sig = sigtimedwait(&signals, nullptr, &poll);
+    if (sig == SIGINT || sig == SIGTERM) {
+      std::printf("rfsitl: interrupted while waiting for external nodes\n");
+      return false;
+    }
+    if (waited >= s.external.start_timeout_s) {
+      std::string ids;
+      for (const NodeId id : missing) ids += " " + std::to_string(id);
+      std::printf("rfsitl: starting without node(s)%s: silent until they join\n", ids.c_str());
+      return true;
+    }
+  }
+}
+
 int run(const RunOptions& o) {
   scenario::Scenario s;
   try {
@@ -209,18 +259,30 @@ int run(const RunOptions& o) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  const io::ServerConfig sc{s.ports.bind_address, s.ports.net_base, s.ports.loc_base,
-                            s.channel.origin};
+  io::ServerConfig sc{s.ports.bind_address, s.ports.net_base, s.ports.loc_base,
+                      s.channel.origin, {}};
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (s.phy_of(i).type == "external") sc.external_net_ports.push_back(s.nodes[i].id);
+  }
   auto servers = io::make_node_servers(sc);
+  std::unique_ptr<external::ExternalRuntime> external;
   std::unique_ptr<engine::Engine> engine;
   try {
-    engine = engine::make_engine(s, *servers);
+    external = external::ExternalRuntime::create(s);
+    engine = engine::make_engine(s, *servers,
+                                 external ? external->transceiver_factory()
+                                          : engine::TransceiverFactory{});
     servers->start(*engine);
+    if (external) external->start_children();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
     return 2;
   }
   print_banner(s, sc);
+  if (external && !wait_for_external_nodes(*external, s, signals)) {
+    print_summary(*engine);
+    return 1;
+  }
   std::printf("rfsitl: ready, listening on %zu net ports and %zu location ports (Ctrl-C to stop)\n",
               s.nodes.size(), s.nodes.size());
   std::fflush(stdout);
@@ -252,7 +314,9 @@ int run(const RunOptions& o) {
   print_summary(*engine);
   if (!o.summary_json.empty()) {
     std::ofstream out(o.summary_json);
-    out << summary_json(s, *engine).dump(2) << "\n";
+    nlohmann::json j = summary_json(s, *engine);
+    if (external) j["external"] = external->summary();
+    out << j.dump(2) << "\n";
     if (!out) {
       std::fprintf(stderr, "rfsitl run: cannot write %s\n", o.summary_json.c_str());
       return 1;
@@ -292,6 +356,15 @@ std::function<int()> add_run_command(CLI::App& parent) {
   cmd->add_option("--stats-interval", opts->stats_interval_s,
                   "Seconds between stats lines (0: off)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--arch", opts->arch,
+                  "Where built-in transceivers run: threads (in the emulator) or split (one "
+                  "`rfsitl node` process each)")
+      ->check(CLI::IsMember({"threads", "split"}));
+  cmd->add_option("--external-socket", opts->external_socket,
+                  "Unix socket for external transceivers (default /tmp/rfsitl-<net-base>.sock)");
+  cmd->add_option("--external-timeout", opts->external_timeout_s,
+                  "Seconds an external transceiver may take to answer before it is dropped")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-skip", opts->no_skip, "Run every receiver every tick (no silence skipping)");
   cmd->add_flag("--shared-noise", opts->shared_noise,
                 "One noise source for all receivers (the paper's setup)");

@@ -80,7 +80,7 @@ struct Node : phy::RxHandler {
 
 class LockStepEngine final : public Engine {
  public:
-  LockStepEngine(const scenario::Scenario& s, FrameSink& sink)
+  LockStepEngine(const scenario::Scenario& s, FrameSink& sink, const TransceiverFactory& factory)
       : scenario_(s),
         sink_(sink),
         block_(s.timing.tick_samples),
@@ -97,8 +97,16 @@ class LockStepEngine final : public Engine {
       Node& node = nodes_[i];
       node.id = s.nodes[i].id;
       ids_.push_back(node.id);
-      const scenario::PhyConfig& phy = s.nodes[i].phy ? *s.nodes[i].phy : s.phy;
-      node.radio = phy::make_transceiver(phy);
+      const scenario::PhyConfig& phy = s.phy_of(i);
+      if (factory) {
+        node.radio = factory(i, phy);
+      } else if (s.runs_externally(i)) {
+        throw std::invalid_argument("node " + std::to_string(node.id) +
+                                    " runs in another process, but no external hub was set up");
+      } else {
+        node.radio = phy::make_transceiver(phy);
+      }
+      if (node.radio->remote()) ++remote_count_;
       node.queue = std::make_unique<SpscRing<QueuedFrame>>(phy.tx_queue_frames);
       node.tx.assign(block_, cf32{});
       node.rx.assign(block_, cf32{});
@@ -123,6 +131,14 @@ class LockStepEngine final : public Engine {
     for (const Node& node : nodes_) {
       sensitivity.push_back(node.radio->sensitivity_snr_db());
       latency = std::max(latency, node.radio->rx_latency_samples());
+    }
+    // Remote transceivers come first in the TX dealing order so that each gets
+    // a worker of its own (the pool has at least as many workers as remotes).
+    for (std::size_t i = 0; i < n; ++i) {
+      if (nodes_[i].radio->remote()) tx_order_.push_back(i);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!nodes_[i].radio->remote()) tx_order_.push_back(i);
     }
     ledger_.emplace(LedgerConfig{s.channel.noise_variance, std::move(sensitivity),
                                  static_cast<SampleTime>(2 * latency + block_)},
@@ -191,11 +207,15 @@ class LockStepEngine final : public Engine {
   }
 
  private:
+  /// One per core (or as set), and at least one per remote transceiver: those
+  /// workers mostly wait on a socket, and their waits must overlap.
   static std::size_t worker_count(const scenario::Scenario& s) {
     const std::size_t wanted = s.engine.threads != 0
                                    ? s.engine.threads
                                    : std::max(1U, std::thread::hardware_concurrency());
-    return std::clamp<std::size_t>(wanted, 1, s.nodes.size());
+    std::size_t remote = 0;
+    for (std::size_t i = 0; i < s.nodes.size(); ++i) remote += s.runs_externally(i) ? 1 : 0;
+    return std::clamp<std::size_t>(std::max(wanted, remote), 1, s.nodes.size());
   }
 
   float unit_noise_variance() const {
@@ -246,10 +266,11 @@ class LockStepEngine final : public Engine {
     apply_positions();
     inject_traffic();
     // Waking the workers costs more than an idle transmitter's zero fill, so
-    // the TX phase runs in parallel only when several nodes were on the air.
-    if (active_.size() > kSerialTxLimit) {
+    // the TX phase runs in parallel only when several nodes were on the air
+    // (or a remote transceiver may make a round trip).
+    if (active_.size() > kSerialTxLimit || remote_count_ > 0) {
       pool_.run([this](std::size_t w) {
-        for (std::size_t i = w; i < nodes_.size(); i += pool_.size()) tx_phase(i);
+        for (std::size_t j = w; j < tx_order_.size(); j += pool_.size()) tx_phase(tx_order_[j]);
       });
     } else {
       for (std::size_t i = 0; i < nodes_.size(); ++i) tx_phase(i);
@@ -274,6 +295,7 @@ class LockStepEngine final : public Engine {
   /// Per node, in parallel: start a queued frame if idle, produce B samples.
   void tx_phase(std::size_t i) {
     Node& node = nodes_[i];
+    node.radio->begin_tick(static_cast<std::uint64_t>(now_) / block_, now_);
     if (!node.radio->tx_busy()) {
       std::optional<NetFrame> next;
       if (!node.injected.empty()) {
@@ -337,10 +359,11 @@ class LockStepEngine final : public Engine {
     return false;
   }
 
-  /// Serially: which receivers run this tick (runnable_), and why the others do not.
+  /// Serially: which receivers run this tick (runnable_, remote ones first so
+  /// that they are dealt to different workers), and why the others do not.
   void plan_receivers() {
     runnable_.clear();
-    for (std::size_t m = 0; m < nodes_.size(); ++m) {
+    for (const std::size_t m : tx_order_) {
       Node& node = nodes_[m];
       if (node.tx_samples > 0) node.receiver_blanked = true;
       if (receiver_must_run(m)) {
@@ -432,6 +455,8 @@ class LockStepEngine final : public Engine {
   std::vector<std::size_t> active_;    // transmitters of the current tick
   std::vector<std::size_t> runnable_;  // receivers that run in the current tick
   static constexpr std::size_t kSerialTxLimit = 2;
+  std::vector<std::size_t> tx_order_;  // remote transceivers first, then the others
+  std::size_t remote_count_ = 0;
   std::vector<NodeId> ids_;
   std::optional<FrameLedger> ledger_;
   TickClock clock_;
@@ -463,8 +488,9 @@ class LockStepEngine final : public Engine {
 
 }  // namespace
 
-std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink) {
-  return std::make_unique<LockStepEngine>(scenario, sink);
+std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink,
+                                    TransceiverFactory factory) {
+  return std::make_unique<LockStepEngine>(scenario, sink, factory);
 }
 
 }  // namespace rfsitl::engine

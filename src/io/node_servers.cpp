@@ -1,5 +1,6 @@
 #include "rfsitl/io/node_servers.hpp"
 
+#include <algorithm>
 #include <utility>  // GCC 12 + C++20: before Boost.Asio
 
 #include <array>
@@ -203,9 +204,14 @@ class AsioNodeServers final : public NodeServers {
     net_.resize(ids.size());
     loc_.resize(ids.size());
     for (std::size_t i = 0; i < ids.size(); ++i) {
-      net_[i].acceptor = listen(net_port(config_, ids[i]), "net", ids[i]);
+      const bool own_net_port = std::find(config_.external_net_ports.begin(),
+                                          config_.external_net_ports.end(),
+                                          ids[i]) == config_.external_net_ports.end();
+      if (own_net_port) {
+        net_[i].acceptor = listen(net_port(config_, ids[i]), "net", ids[i]);
+        accept_net(i);
+      }
       loc_[i].acceptor = listen(loc_port(config_, ids[i]), "location", ids[i]);
-      accept_net(i);
       accept_loc(i);
     }
     thread_ = std::thread([this] { io_.run(); });

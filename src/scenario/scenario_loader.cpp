@@ -100,6 +100,9 @@ constexpr RealLimit kNoisePowerDb{-300, 300};  // keeps 10^(dB/10) a normal, non
 
 constexpr std::array<std::string_view, 2> kTimeModes{"realtime", "virtual"};
 constexpr std::array<std::string_view, 1> kChannelModels{"paper"};
+constexpr std::array<std::string_view, 2> kProcesses{"inline", "child"};
+// One tick's samples must fit one socket message for external transceivers.
+constexpr IntLimit kExternalTickSamples{1, 16384};
 
 template <typename Names>
 std::string join(const Names& names) {
@@ -210,6 +213,11 @@ void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
     const auto src = std::find_if(s.nodes.begin(), s.nodes.end(),
                                   [&](const NodeConfig& n) { return n.id == t.src; });
     const PhyConfig& src_phy = src->phy ? *src->phy : s.phy;
+    if (src_phy.type == "external") {
+      c.fail(key + ".src", "node " + std::to_string(t.src) +
+                               " is external: its own program serves its net port and sends "
+                               "its traffic");
+    }
     c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, src_phy.max_payload_bytes});
     c.check(t.repeat, key + ".repeat", kRepeat);
     c.check(t.interval_s, key + ".interval_s", kNonNegative);
@@ -217,7 +225,10 @@ void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
 }
 
 void check_phy(const Context& c, const PhyConfig& p, const std::string& key) {
-  c.check_name(p.type, key + ".type", phy::known_phy_types());
+  std::vector<std::string> types = phy::known_phy_types();
+  types.push_back("external");
+  c.check_name(p.type, key + ".type", types);
+  c.check_name(p.process, key + ".process", kProcesses);
   c.check(p.samples_per_symbol, key + ".samples_per_symbol", kSamplesPerSymbol);
   c.check(p.bandwidth_time, key + ".bandwidth_time", kBandwidthTime);
   c.check(p.filter_delay_symbols, key + ".filter_delay_symbols", kFilterDelay);
@@ -272,6 +283,14 @@ void validate(const Scenario& s, const Context& c) {
   c.check(s.timing.duration_s, "time.duration_s", kNonNegative);
   c.check(s.engine.threads, "engine.threads", kThreads);
   c.check(s.engine.stats_interval_s, "engine.stats_interval_s", kNonNegative);
+  c.check(s.external.reply_timeout_s, "external.reply_timeout_s", kPositive);
+  c.check(s.external.start_timeout_s, "external.start_timeout_s", kNonNegative);
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (s.runs_externally(i)) {
+      c.check(s.timing.tick_samples, "time.tick_samples", kExternalTickSamples);
+      break;
+    }
+  }
   check_ports(s.ports, c, listed, max_id);
   check_traffic(s, c, listed);
 }
@@ -500,6 +519,7 @@ void read_ports(Context& c, const Entry& at, PortConfig& p) {
 void read_phy(Context& c, const Entry& at, PhyConfig& p) {
   Section sec(c, at);
   sec.get("type", p.type);
+  sec.get("process", p.process);
   sec.get("samples_per_symbol", p.samples_per_symbol, kSamplesPerSymbol);
   sec.get("bandwidth_time", p.bandwidth_time);
   sec.get("filter_delay_symbols", p.filter_delay_symbols, kFilterDelay);
@@ -549,6 +569,15 @@ void read_engine(Context& c, const Entry& at, EngineConfig& e) {
   sec.finish();
 }
 
+void read_external(Context& c, const Entry& at, ExternalConfig& e) {
+  Section sec(c, at);
+  sec.get("socket", e.socket_path);
+  sec.get("reply_timeout_s", e.reply_timeout_s);
+  sec.get("start_timeout_s", e.start_timeout_s);
+  sec.get("restart_children", e.restart_children);
+  sec.finish();
+}
+
 // Node ids and traffic endpoints are required although the structs have defaults: a
 // silent default would invent a node the user never named.
 NodeId node_id(Context& c, Section& sec, std::string_view leaf, IntLimit lim) {
@@ -595,6 +624,7 @@ Scenario read_scenario(Context& c, const YAML::Node& root) {
   read_phy(c, sec.take("phy"), s.phy);
   read_channel(c, sec.take("channel"), s.channel);
   read_engine(c, sec.take("engine"), s.engine);
+  read_external(c, sec.take("external"), s.external);
   for_each_item(c, sec.require("nodes"),
                 [&](const Entry& e) { s.nodes.push_back(read_node(c, e, s.phy)); });
   for_each_item(c, sec.take("traffic"),

@@ -4,6 +4,7 @@
 /// them. Transceivers of different nodes run in parallel on worker threads.
 #include <atomic>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "rfsitl/common/net_frame.hpp"
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/engine/node_counters.hpp"
+#include "rfsitl/phy/transceiver.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::engine {
@@ -67,8 +69,15 @@ class Engine {
   virtual EngineStatus status() const = 0;
 };
 
-/// Builds the engine for a validated scenario. Throws std::invalid_argument on
-/// settings the PHY rejects.
-std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink);
+/// Builds node `index`'s transceiver from its PHY settings (the split
+/// architecture substitutes proxies for transceivers in other processes).
+using TransceiverFactory = std::function<std::unique_ptr<phy::Transceiver>(
+    std::size_t index, const scenario::PhyConfig& phy)>;
+
+/// Builds the engine for a validated scenario. Transceivers come from `factory`,
+/// or from the PHY registry when it is empty. Throws std::invalid_argument on
+/// settings the PHY rejects (and for external nodes without a factory).
+std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink,
+                                    TransceiverFactory factory = {});
 
 }  // namespace rfsitl::engine

@@ -5,6 +5,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/engine/engine.hpp"
@@ -23,6 +24,9 @@ struct ServerConfig {
   std::uint16_t net_base = 15763;
   std::uint16_t loc_base = 15766;
   GeodeticPosition origin;  ///< for local x/y/z positions
+  /// Nodes whose net port another program serves (external transceivers that
+  /// own their net port): no net port is opened for them here.
+  std::vector<NodeId> external_net_ports;
 };
 
 /// Owns the listening sockets and the I/O thread. Frames decoded by the engine

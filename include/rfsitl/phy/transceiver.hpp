@@ -80,6 +80,17 @@ class Transceiver {
   /// Samples the RX path needs after a frame's last sample before it reports
   /// the decode (filter delays).
   virtual std::size_t rx_latency_samples() const = 0;
+
+  /// Called once at the start of every tick, before any other call in it, with
+  /// the tick's index and the virtual time of its first sample. A transceiver
+  /// in another process uses it to stay in lock-step (and to rejoin); the
+  /// built-in ones ignore it.
+  virtual void begin_tick(std::uint64_t /*tick*/, SampleTime /*time*/) {}
+
+  /// True when the work runs in another process and every call may block on a
+  /// round trip: the engine then gives each such transceiver a worker of its
+  /// own, so that their round trips overlap.
+  virtual bool remote() const { return false; }
 };
 
 }  // namespace rfsitl::phy

@@ -13,7 +13,11 @@ namespace rfsitl::scenario {
 
 /// Transceiver type and parameters. Fields that a type does not use are ignored.
 struct PhyConfig {
-  std::string type = "gmsk";          ///< "gmsk", "ofdm" or "dsss"
+  std::string type = "gmsk";  ///< "gmsk", "gmsk-liquid", "ofdm", "dsss" or "external"
+  /// Where a built-in transceiver runs: "inline" (a worker thread of the
+  /// emulator) or "child" (its own `rfsitl node` process: the split
+  /// architecture). Type "external" is always another program.
+  std::string process = "inline";
   unsigned rate_mbps = 6;             ///< ofdm: 802.11a/g rate at 20 MHz (6 ... 54)
   std::string code = "barker11";      ///< dsss: barker11, mseq<N>, gold<N>[:k]
   std::string modulation = "dbpsk";   ///< dsss: dbpsk or dqpsk
@@ -64,6 +68,14 @@ struct EngineConfig {
   double stats_interval_s = 5.0;    ///< wall seconds between stats lines; 0 = off
 };
 
+/// Nodes whose transceiver is another process (type external or process child).
+struct ExternalConfig {
+  std::string socket_path;       ///< Unix socket; empty = /tmp/rfsitl-<net_base>.sock
+  double reply_timeout_s = 1.0;  ///< a process silent this long is dropped
+  double start_timeout_s = 30.0;  ///< how long the run waits for every one to join first
+  bool restart_children = true;  ///< restart an `rfsitl node` child that dies
+};
+
 /// A frame injected by the emulator itself at a virtual time (batch runs, tests).
 struct TrafficItem {
   double at_s = 0.0;
@@ -83,7 +95,17 @@ struct Scenario {
   TimingConfig timing;
   PortConfig ports;
   EngineConfig engine;
+  ExternalConfig external;
   std::vector<TrafficItem> traffic;
+
+  const PhyConfig& phy_of(std::size_t node) const {
+    return nodes[node].phy ? *nodes[node].phy : phy;
+  }
+  /// True when node `node`'s transceiver is another process.
+  bool runs_externally(std::size_t node) const {
+    const PhyConfig& p = phy_of(node);
+    return p.type == "external" || p.process == "child";
+  }
 };
 
 }  // namespace rfsitl::scenario

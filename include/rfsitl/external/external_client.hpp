@@ -1,0 +1,78 @@
+#pragma once
+/// The external side of a node: what a GNU Radio block, an `rfsitl node`
+/// process or any other program uses to join an emulator run (protocol in
+/// wire_protocol.hpp).
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "rfsitl/common/types.hpp"
+#include "rfsitl/external/message_channel.hpp"
+
+namespace rfsitl::external {
+
+/// What the emulator tells a joining node.
+struct Welcome {
+  NodeId node_id = 0;
+  double sample_rate_hz = 0.0;
+  std::uint32_t tick_samples = 0;  ///< B
+  bool virtual_time = false;
+  std::string phy_json;  ///< transceiver role: the node's PHY settings as JSON; else empty
+};
+
+/// One tick as the samples role sees it.
+struct Tick {
+  std::uint64_t index = 0;            ///< k
+  std::uint64_t time = 0;             ///< virtual sample index of tick k's first sample
+  std::span<const cf32> rx;           ///< samples received during tick k-1 (valid until next wait)
+  bool follows_previous = true;       ///< false when ticks were missed since the last one
+};
+
+class ExternalClient {
+ public:
+  struct Settings {
+    std::string socket_path;
+    NodeId node_id = 0;
+    std::string role = "samples";  ///< "samples" or "transceiver"
+    std::string program = "external";
+    int handshake_timeout_ms = 5000;
+  };
+
+  explicit ExternalClient(Settings settings) : settings_(std::move(settings)) {}
+
+  /// Connects and handshakes. Throws std::runtime_error naming the socket and
+  /// the reason (no emulator listening, the emulator's kReject text, timeout).
+  const Welcome& connect();
+  bool connected() const { return channel_.is_open(); }
+  const Welcome& welcome() const { return welcome_; }
+  void disconnect() { channel_.close(); }
+
+  /// Samples role: waits up to `timeout_ms` for the next tick. On kOk, tick()
+  /// is valid and the caller must answer with send_tx() before the emulator's
+  /// timeout. kClosed: the emulator went away or dropped this node.
+  RecvStatus wait_tick(int timeout_ms);
+  const Tick& tick() const { return tick_; }
+
+  /// Samples role: answers the current tick with `tx` (at most B samples; the
+  /// emulator zero-pads fewer). Throws std::invalid_argument if tx.size() > B.
+  bool send_tx(std::span<const cf32> tx);
+
+  /// Ticks that did not follow the previous one (the emulator dropped this node
+  /// in between, or a protocol slip).
+  std::uint64_t discontinuities() const { return discontinuities_; }
+
+  /// Raw access for the transceiver role.
+  MessageChannel& channel() { return channel_; }
+  Message& message() { return message_; }
+
+ private:
+  Settings settings_;
+  MessageChannel channel_;
+  Message message_;
+  Welcome welcome_;
+  Tick tick_;
+  bool have_tick_ = false;
+  std::uint64_t discontinuities_ = 0;
+};
+
+}  // namespace rfsitl::external

@@ -1,0 +1,87 @@
+#include "rfsitl/external/external_client.hpp"
+
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace rfsitl::external {
+
+const Welcome& ExternalClient::connect() {
+  channel_ = MessageChannel::connect_to(settings_.socket_path);
+  have_tick_ = false;
+  const nlohmann::json hello = {{"node_id", settings_.node_id},
+                                {"role", settings_.role},
+                                {"program", settings_.program}};
+  const std::string text = hello.dump();
+  MsgHeader h;
+  h.type = static_cast<std::uint16_t>(MsgType::kHello);
+  if (!channel_.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()})) {
+    throw std::runtime_error("emulator socket " + settings_.socket_path + " closed during hello");
+  }
+  const RecvStatus st = channel_.receive(message_, settings_.handshake_timeout_ms);
+  const std::string where = "emulator socket " + settings_.socket_path + ", node " +
+                            std::to_string(settings_.node_id) + ": ";
+  if (st != RecvStatus::kOk) {
+    channel_.close();
+    throw std::runtime_error(where + (st == RecvStatus::kTimeout ? "no welcome within timeout"
+                                                                 : "connection closed in hello"));
+  }
+  if (message_.type() == MsgType::kReject) {
+    channel_.close();
+    throw std::runtime_error(where + "rejected: " + message_.extra_text());
+  }
+  if (message_.type() != MsgType::kWelcome) {
+    channel_.close();
+    throw std::runtime_error(where + "expected welcome, got " +
+                             message_type_name(message_.header.type));
+  }
+  try {
+    const auto j = nlohmann::json::parse(message_.extra_text());
+    welcome_.node_id = j.at("node_id").get<NodeId>();
+    welcome_.sample_rate_hz = j.at("sample_rate_hz").get<double>();
+    welcome_.tick_samples = j.at("tick_samples").get<std::uint32_t>();
+    welcome_.virtual_time = j.at("time_mode").get<std::string>() == "virtual";
+    welcome_.phy_json = j.contains("phy") ? j["phy"].dump() : std::string();
+  } catch (const nlohmann::json::exception& e) {
+    channel_.close();
+    throw std::runtime_error(where + "bad welcome: " + e.what());
+  }
+  return welcome_;
+}
+
+RecvStatus ExternalClient::wait_tick(int timeout_ms) {
+  for (;;) {
+    const RecvStatus st = channel_.receive(message_, timeout_ms);
+    if (st != RecvStatus::kOk) {
+      if (st == RecvStatus::kMalformed) channel_.close();
+      return st == RecvStatus::kMalformed ? RecvStatus::kClosed : st;
+    }
+    if (message_.type() != MsgType::kTick) {
+      channel_.close();
+      return RecvStatus::kMalformed;
+    }
+    const std::uint64_t expected = tick_.index + 1;
+    tick_.follows_previous = !have_tick_ || message_.header.tick == expected;
+    if (!tick_.follows_previous) ++discontinuities_;
+    have_tick_ = true;
+    tick_.index = message_.header.tick;
+    tick_.time = message_.header.time;
+    tick_.rx = message_.samples;
+    return RecvStatus::kOk;
+  }
+}
+
+bool ExternalClient::send_tx(std::span<const cf32> tx) {
+  if (tx.size() > welcome_.tick_samples) {
+    throw std::invalid_argument("send_tx: " + std::to_string(tx.size()) +
+                                " samples exceed the tick of " +
+                                std::to_string(welcome_.tick_samples));
+  }
+  MsgHeader h;
+  h.type = static_cast<std::uint16_t>(MsgType::kTx);
+  h.tick = tick_.index;
+  h.time = tick_.time;
+  return channel_.send(h, tx);
+}
+
+}  // namespace rfsitl::external

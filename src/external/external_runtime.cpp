@@ -1,0 +1,80 @@
+#include "rfsitl/external/external_runtime.hpp"
+
+#include <cmath>
+
+#include "rfsitl/external/external_transceivers.hpp"
+#include "rfsitl/external/phy_config_json.hpp"
+#include "rfsitl/phy/phy_registry.hpp"
+
+namespace rfsitl::external {
+
+std::string external_socket_path(const scenario::Scenario& s) {
+  if (!s.external.socket_path.empty()) return s.external.socket_path;
+  return "/tmp/rfsitl-" + std::to_string(s.ports.net_base) + ".sock";
+}
+
+ExternalRuntime::ExternalRuntime(const scenario::Scenario& s) : scenario_(s) {
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (!s.runs_externally(i)) continue;
+    const scenario::PhyConfig& phy = s.phy_of(i);
+    const bool samples = phy.type == "external";
+    specs_.push_back(ExternalNodeSpec{i, s.nodes[i].id,
+                                      samples ? Role::kSamples : Role::kTransceiver,
+                                      samples ? std::string() : phy_config_to_json(phy)});
+  }
+  HubSettings hs;
+  hs.socket_path = external_socket_path(s);
+  hs.reply_timeout_ms = static_cast<int>(std::ceil(s.external.reply_timeout_s * 1e3));
+  hs.sample_rate_hz = s.timing.sample_rate_hz;
+  hs.tick_samples = s.timing.tick_samples;
+  hs.virtual_time = s.timing.mode == scenario::TimeMode::kVirtual;
+  hub_ = make_external_hub(hs, specs_);
+}
+
+std::unique_ptr<ExternalRuntime> ExternalRuntime::create(const scenario::Scenario& s) {
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (s.runs_externally(i)) return std::unique_ptr<ExternalRuntime>(new ExternalRuntime(s));
+  }
+  return nullptr;
+}
+
+engine::TransceiverFactory ExternalRuntime::transceiver_factory() const {
+  return [this](std::size_t index,
+                const scenario::PhyConfig& phy) -> std::unique_ptr<phy::Transceiver> {
+    const auto link = hub_->link(index);
+    if (!link) return phy::make_transceiver(phy);
+    if (phy.type == "external") {
+      return make_sample_port_transceiver(link, scenario_.timing.tick_samples);
+    }
+    return make_remote_transceiver(link, phy);
+  };
+}
+
+void ExternalRuntime::start_children() {
+  ChildSettings cs;
+  cs.executable = current_executable();
+  cs.socket_path = hub_->socket_path();
+  cs.restart = scenario_.external.restart_children;
+  for (const auto& spec : specs_) {
+    if (spec.role == Role::kTransceiver) cs.node_ids.push_back(spec.id);
+  }
+  if (!cs.node_ids.empty()) children_ = start_children_of(cs);
+}
+
+nlohmann::json ExternalRuntime::summary() const {
+  nlohmann::json j = nlohmann::json::object();
+  j["socket"] = hub_->socket_path();
+  j["rejected_connections"] = hub_->rejected();
+  j["child_restarts"] = child_restarts();
+  for (const auto& spec : specs_) {
+    const auto link = hub_->link(spec.index);
+    j["nodes"].push_back({{"id", spec.id},
+                          {"role", role_name(spec.role)},
+                          {"joins", link->joins()},
+                          {"drops", link->drops()},
+                          {"timeouts", link->timeouts()}});
+  }
+  return j;
+}
+
+}  // namespace rfsitl::external
