@@ -66,6 +66,7 @@ struct Node : phy::RxHandler {
   // Set by the TX phase when a frame starts this tick; consumed serially.
   std::optional<std::pair<std::uint32_t, NetFrame>> started;
   std::size_t started_len = 0;
+  SampleTime frame_end = 0;  // end of the latest frame this node started
   std::optional<channel::NoiseSource> noise;
   std::vector<const cf32*> mix_inputs;
   std::vector<cf32> mix_coeffs;
@@ -325,11 +326,15 @@ class LockStepEngine final : public Engine {
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       Node& node = nodes_[i];
       if (node.active) active_.push_back(i);
-      if (!node.started) continue;
-      const auto& [serial, frame] = *node.started;
-      ledger_->on_transmit(serial, i, frame.dst, now_,
-                           now_ + static_cast<SampleTime>(node.started_len));
-      node.started.reset();
+      if (node.started) {
+        const auto& [serial, frame] = *node.started;
+        node.frame_end = now_ + static_cast<SampleTime>(node.started_len);
+        ledger_->on_transmit(serial, i, frame.dst, now_, node.frame_end);
+        node.started.reset();
+      } else if (node.active && now_ >= node.frame_end) {
+        // Signal that no frame of ours explains: an external program transmits.
+        ledger_->on_activity(i, now_, now_ + static_cast<SampleTime>(node.tx_samples));
+      }
     }
   }
 

@@ -54,9 +54,19 @@ void FrameLedger::on_transmit(std::uint32_t serial, std::size_t tx, NodeId dst, 
   NodeCounters::bump(counters_[tx].transmitted);
 }
 
+void FrameLedger::on_activity(std::size_t tx, SampleTime start, SampleTime end) {
+  for (auto it = records_.rbegin(); it != records_.rend(); ++it) {
+    if (it->activity && it->tx == tx && it->end == start) {
+      it->end = end;
+      return;
+    }
+  }
+  records_.push_back(Record{0, tx, 0, start, end, 0, true, true});
+}
+
 bool FrameLedger::on_decoded(std::uint32_t serial, std::size_t rx) {
   auto it = std::find_if(records_.begin(), records_.end(),
-                         [&](const Record& r) { return r.serial == serial; });
+                         [&](const Record& r) { return !r.activity && r.serial == serial; });
   if (it == records_.end() || it->tx == rx) return false;
   Record& r = *it;
   const bool broadcast = r.dst == kBroadcastId;

@@ -65,7 +65,9 @@ def scenario_yaml(nodes, extra="", node_phy=None):
 class Emulator:
     """`with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:` runs rfsitl."""
 
-    def __init__(self, nodes, extra_yaml="", args=(), ready_timeout=60.0, node_phy=None):
+    def __init__(self, nodes, extra_yaml="", args=(), ready_timeout=60.0, node_phy=None,
+                 ready_marker="rfsitl: ready"):
+        self.ready_marker = ready_marker
         self.nodes = nodes
         self.net_base, self.loc_base = pick_port_bases(list(nodes))
         self.dir = tempfile.TemporaryDirectory(prefix="rfsitl-it-")
@@ -96,7 +98,7 @@ class Emulator:
         def pump():
             for line in self.proc.stdout:
                 self.output.append(line)
-                if "rfsitl: ready" in line:
+                if self.ready_marker in line:
                     ready.set()
             ready.set()
 
@@ -130,6 +132,7 @@ class Emulator:
             self._kill()
             raise AssertionError("emulator did not stop within 60 s of SIGINT")
         self._reader.join(10)
+        self.proc.stdout.close()
         if rc != 0:
             raise AssertionError(f"emulator exited with {rc}:\n" + "".join(self.output))
         with open(self.summary_path) as f:
@@ -231,3 +234,116 @@ def assert_accounted(test, summary):
         outcomes = n["delivered"] + lost_total(n) + n["queue_dropped"]
         test.assertEqual(n["pending"], 0, f"node {n['id']} still has pending frames: {n}")
         test.assertEqual(n["handed_in"], outcomes, f"node {n['id']} books do not balance: {n}")
+
+
+# --- external transceivers (include/rfsitl/external/wire_protocol.hpp) -------------
+
+MSG_HEADER = "<IHHQQII"  # magic, type, flags, tick, time, count, extra_bytes
+MAGIC = 0x58534652
+MSG_HELLO, MSG_WELCOME, MSG_REJECT, MSG_TICK, MSG_TX = 1, 2, 3, 4, 5
+
+
+class ExternalSamplesNode:
+    """A program in the "samples" role written from the protocol description:
+    joins as node `node_id`, then answers each tick with what `tx_for(tick)`
+    returns (packed cf32 bytes, see pack_samples; at most B samples). Records the received power
+    of every tick. `answer=False` stops answering (a hung process)."""
+
+    def __init__(self, socket_path, node_id, tx_for=None):
+        import struct
+        self.struct = struct
+        self.sock = socket.socket(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        deadline = time.monotonic() + 10
+        while True:
+            try:
+                self.sock.connect(socket_path)
+                break
+            except OSError:
+                if time.monotonic() > deadline:
+                    raise
+                time.sleep(0.05)
+        hello = json.dumps({"node_id": node_id, "role": "samples",
+                            "program": "harness.py"}).encode()
+        self._send(MSG_HELLO, 0, 0, b"", hello)
+        mtype, _, _, _, _, extra = self._recv(5.0)
+        if mtype != MSG_WELCOME:
+            raise RuntimeError("not welcomed: " + extra.decode(errors="replace"))
+        self.welcome = json.loads(extra)
+        self.tx_for = tx_for or (lambda tick: b"")
+        self.answer = True
+        self.ticks = 0
+        self.rx_power = []  # (tick, mean |y|^2) of every tick with samples
+        self.discontinuities = 0
+        self.closed = False
+        self._stop = False
+        self._thread = threading.Thread(target=self._loop, daemon=True)
+        self._thread.start()
+
+    def _send(self, mtype, tick, t, samples, extra):
+        h = self.struct.pack(MSG_HEADER, MAGIC, mtype, 0, tick, t, len(samples) // 8, len(extra))
+        self.sock.send(h + samples + extra)
+
+    def _recv(self, timeout):
+        self.sock.settimeout(timeout)
+        data = self.sock.recv(256 * 1024)
+        if not data:
+            raise ConnectionError("emulator closed the connection")
+        magic, mtype, flags, tick, t, count, extra_len = self.struct.unpack_from(MSG_HEADER, data)
+        assert magic == MAGIC
+        samples = data[32:32 + 8 * count]
+        return mtype, flags, tick, t, samples, data[32 + 8 * count:]
+
+    def _loop(self):
+        last = None
+        try:
+            while not self._stop:
+                try:
+                    mtype, _, tick, t, samples, _ = self._recv(0.2)
+                except socket.timeout:
+                    continue
+                if mtype != MSG_TICK:
+                    raise RuntimeError(f"unexpected message type {mtype}")
+                if last is not None and tick != last + 1:
+                    self.discontinuities += 1
+                last = tick
+                if samples:
+                    vals = self.struct.unpack(f"<{len(samples) // 4}f", samples)
+                    power = sum(v * v for v in vals) / (len(vals) / 2)
+                    self.rx_power.append((tick, power))
+                if not self.answer:
+                    continue
+                self._send(MSG_TX, tick, t, self.tx_for(tick), b"")
+                self.ticks += 1
+        except (ConnectionError, OSError):
+            pass
+        self.closed = True
+
+    def close(self):
+        self._stop = True
+        self._thread.join(5)
+        self.sock.close()
+
+
+def pack_samples(samples):
+    """Complex samples as the protocol's cf32 little-endian bytes."""
+    import struct
+    flat = []
+    for z in samples:
+        flat += [z.real, z.imag]
+    return struct.pack(f"<{len(flat)}f", *flat)
+
+
+def child_pid(socket_path, node_id):
+    """Process id of the `rfsitl node` child serving node_id, or None."""
+    want = ["node", "--socket", socket_path, "--id", str(node_id)]
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                args = f.read().decode(errors="replace").split("\0")
+        except OSError:
+            continue
+        if args[1:6] == want:
+            return int(pid)
+    return None

@@ -34,6 +34,12 @@ class FrameLedger {
   void on_transmit(std::uint32_t serial, std::size_t tx, NodeId dst, SampleTime start,
                    SampleTime end);
 
+  /// Node `tx` put signal on the air during [start, end) that is no frame the
+  /// emulator started (an external program's transmission). It is never
+  /// counted, but it explains other frames' losses (collision, half-duplex).
+  /// Activity adjoining the node's previous activity extends it.
+  void on_activity(std::size_t tx, SampleTime start, SampleTime end);
+
   /// Receiver `rx` decoded the frame `serial` with a valid CRC. Returns true if the
   /// frame is addressed to rx (unicast to it, or broadcast): hand it to its agent.
   bool on_decoded(std::uint32_t serial, std::size_t rx);
@@ -58,6 +64,7 @@ class FrameLedger {
     SampleTime end;
     std::uint32_t decodes = 0;  // receivers addressed by this frame that decoded it
     bool settled = false;
+    bool activity = false;  // on_activity(): not a frame, never counted
   };
 
   LossReason loss_reason(const Record& r, std::size_t rx,
