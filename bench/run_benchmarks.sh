@@ -43,9 +43,12 @@ PORT_BASE="${PORT_BASE:-20000}"
 STAGES="${STAGES-fig4 fig5 capacity virtual mix}"  # empty: only the report
 # Architectures of the Fig. 4 CDF. Each name A needs a function fig4_start_A LOG JSON
 # that starts that architecture's emulator with 6 nodes via start_emulator (below) or
-# its own launcher that sets EMU_PID and NET_BASE the same way. The split-architecture
-# issue adds fig4_start_split and appends "split" here: its curve then joins the plot.
-FIG4_ARCHS="${FIG4_ARCHS:-inprocess}"
+# its own launcher that sets EMU_PID and NET_BASE the same way:
+#   inprocess  built-in GMSK transceivers on the emulator's worker threads
+#   split      the same transceivers, one `rfsitl node` process each
+#   gnuradio   six GNU Radio flowgraphs (examples/gnuradio/gmsk_node.py), stock
+#              gr-digital GMSK, each serving its own net port (needs scripts/build_gr.sh)
+FIG4_ARCHS="${FIG4_ARCHS:-inprocess split gnuradio}"
 
 mkdir -p "$OUT"/fig4 "$OUT"/fig5 "$OUT"/capacity
 # Report only (STAGES empty): keep the timings and run facts of the run that measured.
@@ -90,8 +93,8 @@ stop_emulator() {
   wait "$EMU_PID" 2>/dev/null || true
   EMU_PID=""
 }
-trap stop_emulator EXIT
-trap 'stop_emulator; exit 130' INT TERM
+trap 'stop_gnuradio; stop_emulator' EXIT
+trap 'stop_gnuradio; stop_emulator; exit 130' INT TERM
 
 # start_emulator LOG JSON ARGS...: starts `rfsitl run ARGS` on a fresh port range and
 # waits for "rfsitl: ready"; tries three ranges (a port may be taken by someone else).
@@ -118,6 +121,45 @@ start_emulator() {
 }
 
 fig4_start_inprocess() { start_emulator "$1" "$2" --nodes 6; }
+fig4_start_split() { start_emulator "$1" "$2" --nodes 6 --arch split; }
+
+# Six GNU Radio nodes: the emulator opens its ports and waits for them to join, so
+# the flowgraphs start between its "waiting" line and its "ready" line.
+GR_PIDS=()
+stop_gnuradio() {
+  [ ${#GR_PIDS[@]} -gt 0 ] || return 0
+  kill -INT "${GR_PIDS[@]}" 2>/dev/null || true
+  sleep 1
+  kill -KILL "${GR_PIDS[@]}" 2>/dev/null || true
+  wait "${GR_PIDS[@]}" 2>/dev/null || true
+  GR_PIDS=()
+}
+fig4_start_gnuradio() {
+  if ! $PY -c "from gnuradio import rfsitl" 2>/dev/null; then
+    echo "bench: gnuradio curve skipped: the OOT module is not installed (bash scripts/build_gr.sh)"
+    return 1
+  fi
+  local log="$1" json="$2" base=$((PORT_BASE + 1000 * (RUN_INDEX % 40)))
+  RUN_INDEX=$((RUN_INDEX + 1))
+  NET_BASE=$((base + 3))
+  "$BIN" run --nodes 6 --phy external --net-base "$NET_BASE" --loc-base $((base + 6)) \
+    --bind 127.0.0.1 --stats-interval 1 --summary-json "$json" >"$log" 2>&1 &
+  EMU_PID=$!
+  for _ in $(seq 100); do grep -q "waiting up to" "$log" 2>/dev/null && break; sleep 0.1; done
+  for id in 1 2 3 4 5 6; do
+    $PY examples/gnuradio/gmsk_node.py --socket "/tmp/rfsitl-$NET_BASE.sock" --id "$id" \
+      --net-base "$NET_BASE" >"${log%.log}_gr$id.log" 2>&1 &
+    GR_PIDS+=($!)
+  done
+  for _ in $(seq 600); do
+    grep -q "rfsitl: ready" "$log" 2>/dev/null && return 0
+    kill -0 "$EMU_PID" 2>/dev/null || break
+    sleep 0.1
+  done
+  echo "bench: GNU Radio nodes did not all join (tail of $log):" >&2
+  tail -3 "$log" >&2 || true
+  return 1
+}
 
 # --- stages -----------------------------------------------------------------------
 # The air-time floor is always measured: every RTT is also shown as a multiple of it.
@@ -135,6 +177,7 @@ if stage fig4; then
         --net-base "$NET_BASE" --csv "$OUT/fig4/rtt_$arch.csv" || echo "ping failed"
     fi
     stop_emulator
+    stop_gnuradio
   done
   mark fig4
 fi

@@ -21,6 +21,8 @@
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/external/external_runtime.hpp"
 #include "rfsitl/io/node_servers.hpp"
+#include "rfsitl/monitor/dashboard.hpp"
+#include "rfsitl/monitor/stats_report.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 
@@ -43,8 +45,12 @@ struct RunOptions {
   std::optional<double> noise_db;
   std::optional<double> stats_interval_s;
   std::optional<std::string> arch;
+  std::optional<std::string> phy_type;
   std::optional<std::string> external_socket;
   std::optional<double> external_timeout_s;
+  std::optional<std::uint16_t> dashboard_port;
+  bool no_dashboard = false;
+  bool dashboard_control = false;
   bool no_skip = false;
   bool shared_noise = false;
   std::string summary_json;
@@ -75,6 +81,7 @@ scenario::Scenario build_scenario(const RunOptions& o) {
     s.traffic.clear();  // it named the file's nodes
     if (o.scenario_path.empty()) s.name = "default-formation";
   }
+  if (o.phy_type) s.phy.type = *o.phy_type;  // nodes without a phy of their own
   if (o.arch) {
     // Every built-in transceiver moves: threads = in the emulator, split = one
     // `rfsitl node` process each. External programs stay what they are.
@@ -159,42 +166,6 @@ void print_stats_line(engine::Engine& e) {
   std::fflush(stdout);
 }
 
-nlohmann::json summary_json(const scenario::Scenario& s, engine::Engine& e) {
-  const engine::EngineStatus st = e.status();
-  nlohmann::json j;
-  j["scenario"] = s.name;
-  j["virtual_s"] = st.virtual_s;
-  j["wall_s"] = st.wall_s;
-  j["max_lag_s"] = st.max_lag_s;
-  j["late_ticks"] = st.late_ticks;
-  j["late_decodes"] = st.late_decodes;
-  j["receiver_ticks_run"] = st.receiver_ticks_run;
-  j["receiver_ticks_skipped"] = st.receiver_ticks_skipped;
-  j["receiver_ticks_blanked"] = st.receiver_ticks_blanked;
-  for (std::size_t i = 0; i < e.num_nodes(); ++i) {
-    const auto c = e.counters(i).snapshot();
-    nlohmann::json n;
-    n["id"] = e.node_ids()[i];
-    n["handed_in"] = c.handed_in;
-    n["queue_dropped"] = c.queue_dropped;
-    n["transmitted"] = c.transmitted;
-    n["delivered"] = c.delivered;
-    for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) {
-      n["lost"][std::string(engine::loss_reason_name(static_cast<engine::LossReason>(r)))] =
-          c.lost[r];
-    }
-    n["pending"] = c.pending();
-    n["received"] = c.received;
-    n["rx_crc_failures"] = c.rx_crc_failures;
-    n["framing_errors"] = c.framing_errors;
-    n["to_agent_dropped"] = c.to_agent_dropped;
-    n["location_updates"] = c.location_updates;
-    n["location_errors"] = c.location_errors;
-    j["nodes"].push_back(n);
-  }
-  return j;
-}
-
 void print_summary(engine::Engine& e) {
   const engine::EngineStatus st = e.status();
   std::printf(
@@ -267,18 +238,31 @@ int run(const RunOptions& o) {
   auto servers = io::make_node_servers(sc);
   std::unique_ptr<external::ExternalRuntime> external;
   std::unique_ptr<engine::Engine> engine;
+  std::unique_ptr<monitor::Dashboard> dashboard;  // observes the engine: destroyed first
   try {
     external = external::ExternalRuntime::create(s);
     engine = engine::make_engine(s, *servers,
                                  external ? external->transceiver_factory()
                                           : engine::TransceiverFactory{});
     servers->start(*engine);
+    if (!o.no_dashboard) {
+      monitor::DashboardSettings ds;
+      ds.bind_address = s.ports.bind_address;
+      ds.port = o.dashboard_port.value_or(ds.port);
+      ds.fall_back_to_any_port = !o.dashboard_port;
+      ds.control = o.dashboard_control;
+      dashboard = monitor::start_dashboard(ds, s, *engine);
+    }
     if (external) external->start_children();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
     return 2;
   }
   print_banner(s, sc);
+  if (dashboard) {
+    std::printf("rfsitl: dashboard %s (moving nodes %s)\n", dashboard->url().c_str(),
+                o.dashboard_control ? "allowed" : "off; --dashboard-control allows it");
+  }
   if (external && !wait_for_external_nodes(*external, s, signals)) {
     print_summary(*engine);
     return 1;
@@ -314,7 +298,7 @@ int run(const RunOptions& o) {
   print_summary(*engine);
   if (!o.summary_json.empty()) {
     std::ofstream out(o.summary_json);
-    nlohmann::json j = summary_json(s, *engine);
+    nlohmann::json j = monitor::stats_json(s, *engine);
     if (external) j["external"] = external->summary();
     out << j.dump(2) << "\n";
     if (!out) {
@@ -356,6 +340,9 @@ std::function<int()> add_run_command(CLI::App& parent) {
   cmd->add_option("--stats-interval", opts->stats_interval_s,
                   "Seconds between stats lines (0: off)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--phy", opts->phy_type,
+                  "Transceiver type of every node without its own phy (gmsk, gmsk-liquid, ofdm, "
+                  "dsss, external)");
   cmd->add_option("--arch", opts->arch,
                   "Where built-in transceivers run: threads (in the emulator) or split (one "
                   "`rfsitl node` process each)")
@@ -365,6 +352,11 @@ std::function<int()> add_run_command(CLI::App& parent) {
   cmd->add_option("--external-timeout", opts->external_timeout_s,
                   "Seconds an external transceiver may take to answer before it is dropped")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--dashboard-port", opts->dashboard_port,
+                  "Port of the web dashboard (default 15700, or any free port if taken; 0: any)");
+  cmd->add_flag("--no-dashboard", opts->no_dashboard, "Do not serve the web dashboard");
+  cmd->add_flag("--dashboard-control", opts->dashboard_control,
+                "Let dashboard viewers move nodes (off by default)");
   cmd->add_flag("--no-skip", opts->no_skip, "Run every receiver every tick (no silence skipping)");
   cmd->add_flag("--shared-noise", opts->shared_noise,
                 "One noise source for all receivers (the paper's setup)");

@@ -49,6 +49,45 @@ Ecef local_to_ecef(const LocalPosition& p, const GeodeticPosition& origin) {
               o.z + cl * north + sl * up};
 }
 
+LocalPosition ecef_to_local(const Ecef& p, const GeodeticPosition& origin) {
+  const Ecef o = geodetic_to_ecef(origin);
+  const double lat = origin.lat_deg * kDegToRad;
+  const double lon = origin.lon_deg * kDegToRad;
+  const double sl = std::sin(lat);
+  const double cl = std::cos(lat);
+  const double so = std::sin(lon);
+  const double co = std::cos(lon);
+  const double dx = p.x - o.x;
+  const double dy = p.y - o.y;
+  const double dz = p.z - o.z;
+  // The transpose of local_to_ecef's rotation.
+  return LocalPosition{-so * dx + co * dy,  //
+                       -sl * co * dx - sl * so * dy + cl * dz,
+                       cl * co * dx + cl * so * dy + sl * dz};
+}
+
+GeodeticPosition ecef_to_geodetic(const Ecef& p) {
+  const double b = kSemiMajorAxisM * (1.0 - kFlattening);
+  const double ep2 = kEccentricitySq / (1.0 - kEccentricitySq);
+  const double r = std::hypot(p.x, p.y);
+  const double lon = std::atan2(p.y, p.x);
+  // Bowring's parametric-latitude start, then fixed-point refinements.
+  double beta = std::atan2(p.z * kSemiMajorAxisM, r * b);
+  double lat = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double sb = std::sin(beta);
+    const double cb = std::cos(beta);
+    lat = std::atan2(p.z + ep2 * b * sb * sb * sb,
+                     r - kEccentricitySq * kSemiMajorAxisM * cb * cb * cb);
+    beta = std::atan2((1.0 - kFlattening) * std::sin(lat), std::cos(lat));
+  }
+  const double sl = std::sin(lat);
+  const double n = kSemiMajorAxisM / std::sqrt(1.0 - kEccentricitySq * sl * sl);
+  const double alt = std::abs(std::cos(lat)) > 1e-9 ? r / std::cos(lat) - n
+                                                    : std::abs(p.z) - b;
+  return GeodeticPosition{lat / kDegToRad, lon / kDegToRad, alt};
+}
+
 Ecef to_ecef(const Position& p, const GeodeticPosition& origin) {
   return std::visit(
       [&origin](const auto& q) -> Ecef {

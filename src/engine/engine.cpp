@@ -16,6 +16,7 @@
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/engine/tick_clock.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
+#include "event_reporter.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 
 namespace rfsitl::engine {
@@ -72,10 +73,15 @@ struct Node : phy::RxHandler {
   std::vector<cf32> mix_coeffs;
   std::vector<Decoded> decoded;
   enum class RxTick { kRan, kSkipped, kBlanked } rx_tick = RxTick::kRan;
+  bool watched = false;  // an observer wants this tick's samples
+  std::size_t index = 0;
+  SampleTime tick_time = 0;
+  const EventReporter* reporter = nullptr;
 
   void on_rx(const phy::RxEvent& ev) override {
     if (!ev.header_valid) return;
     decoded.push_back(Decoded{ev.tag, {ev.payload.begin(), ev.payload.end()}, ev.payload_valid});
+    if (reporter->active()) reporter->decoded(index, tick_time, ev);
   }
 };
 
@@ -90,13 +96,16 @@ class LockStepEngine final : public Engine {
         counters_(s.nodes.size()),
         clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
                s.timing.mode == scenario::TimeMode::kRealTime),
-        pool_(worker_count(s)) {
+        pool_(worker_count(s)),
+        reporter_(scenario_, channel_) {
     const std::size_t n = s.nodes.size();
     nodes_.resize(n);
     pending_positions_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       Node& node = nodes_[i];
       node.id = s.nodes[i].id;
+      node.index = i;
+      node.reporter = &reporter_;
       ids_.push_back(node.id);
       const scenario::PhyConfig& phy = s.phy_of(i);
       if (factory) {
@@ -144,6 +153,7 @@ class LockStepEngine final : public Engine {
     ledger_.emplace(LedgerConfig{s.channel.noise_variance, std::move(sensitivity),
                                  static_cast<SampleTime>(2 * latency + block_)},
                     counters_, [this](NodeId id) { return index_of(id); });
+    ledger_->set_outcome_callback([this](const LedgerOutcome& o) { reporter_.outcome(o, now_); });
     schedule_traffic();
   }
 
@@ -163,11 +173,27 @@ class LockStepEngine final : public Engine {
     NodeCounters& c = counters_[node];
     NodeCounters::bump(c.handed_in);
     QueuedFrame item{std::move(frame), clock_.wall_now_samples()};
+    reporter_.handed_in(node, item.frame, item.not_before);
     if (!nodes_[node].queue->try_push(item)) {
       NodeCounters::bump(c.queue_dropped);
+      reporter_.queue_dropped(node, item.frame, item.not_before);
       return false;
     }
     return true;
+  }
+
+  void add_observer(EngineObserver& observer) override { reporter_.add(observer); }
+
+  std::size_t queue_depth(std::size_t node) const override { return nodes_[node].queue->size(); }
+
+  std::vector<std::optional<Ecef>> positions() const override {
+    std::lock_guard lock(snapshot_mutex_);
+    return positions_snapshot_;
+  }
+
+  std::vector<float> link_gains() const override {
+    std::lock_guard lock(snapshot_mutex_);
+    return gains_snapshot_;
   }
 
   void set_position(std::size_t node, std::optional<Ecef> position) override {
@@ -248,19 +274,34 @@ class LockStepEngine final : public Engine {
         frame.payload[b] = static_cast<std::uint8_t>((t.repeat_index + b) & 0xFF);
       }
       NodeCounters::bump(counters_[*node].handed_in);
+      reporter_.handed_in(*node, frame, now_);
       nodes_[*node].injected.push_back(std::move(frame));
     }
   }
 
   void apply_positions() {
-    if (!positions_dirty_.exchange(false, std::memory_order_acq_rel)) return;
-    std::lock_guard lock(positions_mutex_);
-    for (std::size_t i = 0; i < pending_positions_.size(); ++i) {
-      if (pending_positions_[i]) {
-        channel_.set_position(i, *pending_positions_[i]);
-        pending_positions_[i].reset();
+    if (!positions_dirty_.exchange(false, std::memory_order_acq_rel) && !first_snapshot_) return;
+    {
+      std::lock_guard lock(positions_mutex_);
+      for (std::size_t i = 0; i < pending_positions_.size(); ++i) {
+        if (pending_positions_[i]) {
+          channel_.set_position(i, *pending_positions_[i]);
+          pending_positions_[i].reset();
+        }
       }
     }
+    // Copies for other threads (the dashboard), made only when something moved.
+    first_snapshot_ = false;
+    const std::size_t n = nodes_.size();
+    std::vector<std::optional<Ecef>> pos(n);
+    std::vector<float> gains(n * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      pos[i] = channel_.position(i);
+      for (std::size_t m = 0; m < n; ++m) gains[i * n + m] = channel_.power_gain(i, m);
+    }
+    std::lock_guard lock(snapshot_mutex_);
+    positions_snapshot_ = std::move(pos);
+    gains_snapshot_ = std::move(gains);
   }
 
   void run_tick() {
@@ -330,6 +371,7 @@ class LockStepEngine final : public Engine {
         const auto& [serial, frame] = *node.started;
         node.frame_end = now_ + static_cast<SampleTime>(node.started_len);
         ledger_->on_transmit(serial, i, frame.dst, now_, node.frame_end);
+        reporter_.transmitted(i, serial, frame, now_, node.started_len);
         node.started.reset();
       } else if (node.active && now_ >= node.frame_end) {
         // Signal that no frame of ours explains: an external program transmits.
@@ -356,7 +398,7 @@ class LockStepEngine final : public Engine {
   bool receiver_must_run(std::size_t m) const {
     const Node& node = nodes_[m];
     if (blanked_whole_tick(node)) return false;
-    if (!scenario_.engine.skip_idle_receivers) return true;
+    if (!scenario_.engine.skip_idle_receivers || node.watched) return true;
     if (node.receiver_blanked || node.radio->rx_busy()) return true;
     for (const std::size_t n : active_) {
       if (n != m && channel_.coefficient(n, m) != cf32{}) return true;
@@ -370,6 +412,8 @@ class LockStepEngine final : public Engine {
     runnable_.clear();
     for (const std::size_t m : tx_order_) {
       Node& node = nodes_[m];
+      node.watched = reporter_.active() && reporter_.wants_samples(m);
+      node.tick_time = now_;
       if (node.tx_samples > 0) node.receiver_blanked = true;
       if (receiver_must_run(m)) {
         node.rx_tick = Node::RxTick::kRan;
@@ -390,6 +434,7 @@ class LockStepEngine final : public Engine {
     }
     const std::size_t first = first_receive_sample(node);
     const std::size_t len = block_ - first;
+    if (node.watched) std::fill_n(node.rx.begin(), first, cf32{});  // blanked: zeros
     node.mix_inputs.clear();
     node.mix_coeffs.clear();
     const auto row = channel_.receiver_row(m);
@@ -416,11 +461,16 @@ class LockStepEngine final : public Engine {
       if (node.rx_tick == Node::RxTick::kSkipped) ++skipped_ticks_;
       if (node.rx_tick == Node::RxTick::kRan) ++run_ticks_;
       if (node.rx_tick == Node::RxTick::kBlanked) ++blanked_ticks_;
+      if (node.watched) {
+        if (node.rx_tick == Node::RxTick::kBlanked) std::fill(node.rx.begin(), node.rx.end(), cf32{});
+        reporter_.rx_samples(m, now_, node.rx);
+      }
       for (Decoded& d : node.decoded) {
         if (!d.payload_valid) {
           NodeCounters::bump(counters_[m].rx_crc_failures);
         } else if (ledger_->on_decoded(d.tag.serial, m)) {
           NodeCounters::bump(counters_[m].received);
+          reporter_.received(m, d.tag, d.payload, now_);
           sink_.deliver(m, NetFrame{d.tag.src, d.tag.dst, std::move(d.payload)});
         }
       }
@@ -474,6 +524,12 @@ class LockStepEngine final : public Engine {
   std::uint64_t run_ticks_ = 0;
   std::uint64_t skipped_ticks_ = 0;
   std::uint64_t blanked_ticks_ = 0;
+
+  EventReporter reporter_;
+  mutable std::mutex snapshot_mutex_;
+  std::vector<std::optional<Ecef>> positions_snapshot_;
+  std::vector<float> gains_snapshot_;
+  bool first_snapshot_ = true;
 
   std::mutex positions_mutex_;
   std::vector<std::optional<std::optional<Ecef>>> pending_positions_;

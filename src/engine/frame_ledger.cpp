@@ -84,6 +84,7 @@ bool FrameLedger::on_decoded(std::uint32_t serial, std::size_t rx) {
   if (!broadcast) {
     r.settled = true;
     NodeCounters::bump(counters_[r.tx].delivered);
+    report(r, true, rx, std::nullopt);
   }
   return true;
 }
@@ -117,6 +118,7 @@ void FrameLedger::settle_record(Record& r, const channel::ChannelMatrix& channel
   if (r.dst == kBroadcastId) {
     if (r.decodes > 0) {
       NodeCounters::bump(c.delivered);
+      report(r, true, std::nullopt, std::nullopt);
       return;
     }
     // Nobody decoded it: name the reason at the receiver with the best link.
@@ -127,11 +129,18 @@ void FrameLedger::settle_record(Record& r, const channel::ChannelMatrix& channel
     }
     const LossReason why = best ? loss_reason(r, *best, channel) : LossReason::kUnknownDestination;
     NodeCounters::bump(c.lost[static_cast<std::size_t>(why)]);
+    report(r, false, best, why);
     return;
   }
   const auto rx = index_of_id_(r.dst);
   const LossReason why = rx ? loss_reason(r, *rx, channel) : LossReason::kUnknownDestination;
   NodeCounters::bump(c.lost[static_cast<std::size_t>(why)]);
+  report(r, false, rx, why);
+}
+
+void FrameLedger::report(const Record& r, bool delivered, std::optional<std::size_t> rx,
+                         std::optional<LossReason> reason) const {
+  if (on_outcome_) on_outcome_(LedgerOutcome{delivered, r.serial, r.tx, r.dst, rx, reason, r.start, r.end});
 }
 
 void FrameLedger::settle(SampleTime now, const channel::ChannelMatrix& channel) {

@@ -11,6 +11,7 @@
 
 #include "rfsitl/common/net_frame.hpp"
 #include "rfsitl/common/position.hpp"
+#include "rfsitl/engine/engine_observer.hpp"
 #include "rfsitl/engine/node_counters.hpp"
 #include "rfsitl/phy/transceiver.hpp"
 #include "rfsitl/scenario/scenario.hpp"
@@ -60,9 +61,25 @@ class Engine {
   /// effect at the next tick.
   virtual void set_position(std::size_t node, std::optional<Ecef> position) = 0;
 
+  /// Adds an observer of frame events and samples (traces, recordings, the
+  /// dashboard). Before run() only; the observer must outlive the engine's run.
+  /// Watching a node's samples makes its receiver run every tick (no silence
+  /// skipping for it).
+  virtual void add_observer(EngineObserver& observer) = 0;
+
+  /// Thread-safe copy of the current positions (nullopt: unknown), by index.
+  virtual std::vector<std::optional<Ecef>> positions() const = 0;
+
+  /// Thread-safe copy of the link power gains |c_nm|^2, row-major [tx * N + rx].
+  virtual std::vector<float> link_gains() const = 0;
+
   /// Runs ticks on the calling thread until `stop` is set or the scenario's
   /// duration has been emulated. Call once.
   virtual void run(const std::atomic<bool>& stop) = 0;
+
+  /// Frames waiting in node `node`'s TX queue (thread-safe, approximate while
+  /// the queue changes).
+  virtual std::size_t queue_depth(std::size_t node) const = 0;
 
   /// Thread-safe views of the accounting and progress.
   virtual NodeCounters& counters(std::size_t node) = 0;

@@ -22,6 +22,18 @@ struct LedgerConfig {
   SampleTime grace_samples = 0;  ///< receiver latency allowed after a frame ends
 };
 
+/// A frame's final outcome, for observers.
+struct LedgerOutcome {
+  bool delivered = false;
+  std::uint32_t serial = 0;
+  std::size_t tx = 0;
+  NodeId dst = 0;
+  std::optional<std::size_t> rx;  ///< lost: the receiver the reason was named at
+  std::optional<LossReason> reason;
+  SampleTime start = 0;
+  SampleTime end = 0;
+};
+
 /// Engine-thread only (not thread-safe). Node indices are 0..N-1.
 class FrameLedger {
  public:
@@ -48,6 +60,11 @@ class FrameLedger {
   /// naming the loss reason from `channel` and the overlap history; forgets
   /// records no longer needed for overlap checks.
   void settle(SampleTime now, const channel::ChannelMatrix& channel);
+
+  /// Called with every final outcome (delivered or lost), when it is decided.
+  void set_outcome_callback(std::function<void(const LedgerOutcome&)> callback) {
+    on_outcome_ = std::move(callback);
+  }
 
   /// Frames on the air or awaiting a verdict.
   std::size_t in_flight() const;
@@ -77,6 +94,10 @@ class FrameLedger {
   std::vector<Record> records_;  // in start order
   SampleTime longest_frame_ = 0;
   std::uint64_t late_decodes_ = 0;
+  std::function<void(const LedgerOutcome&)> on_outcome_;
+
+  void report(const Record& r, bool delivered, std::optional<std::size_t> rx,
+              std::optional<LossReason> reason) const;
 };
 
 }  // namespace rfsitl::engine

@@ -1,0 +1,39 @@
+#pragma once
+/// What the engine shows to traces, recordings and the dashboard. Observers
+/// are called synchronously; each call must be quick (copy and hand off).
+#include <span>
+
+#include "rfsitl/common/types.hpp"
+#include "rfsitl/engine/frame_event.hpp"
+#include "rfsitl/phy/transceiver.hpp"
+
+namespace rfsitl::engine {
+
+class EngineObserver {
+ public:
+  virtual ~EngineObserver() = default;
+
+  /// Every frame event. kHandedIn and kQueueDropped of agents' frames come from
+  /// the I/O thread, all others from the engine thread: implementations must be
+  /// thread-safe. Events of one frame arrive in order.
+  virtual void on_frame_event(const FrameEvent& event) = 0;
+
+  /// Engine thread, once per tick, for every node whose wants_samples() is true:
+  /// the samples its receiver got in the tick starting at `time` (B of them;
+  /// zeros where its own transmission blanked it; the receiver's front-end
+  /// scale, noise at unit power).
+  virtual void on_rx_samples(std::size_t /*node*/, SampleTime /*time*/,
+                             std::span<const cf32> /*samples*/) {}
+
+  /// Engine thread: whether node `node`'s received samples are wanted now.
+  /// Asked once per tick; cheap.
+  virtual bool wants_samples(std::size_t /*node*/) const { return false; }
+
+  /// Worker thread of node `node` (several may call at once): a decode with a
+  /// valid header in the tick starting at `time`; `event.symbols` is the
+  /// constellation (valid during the call only).
+  virtual void on_decode(std::size_t /*node*/, SampleTime /*time*/,
+                         const phy::RxEvent& /*event*/) {}
+};
+
+}  // namespace rfsitl::engine

@@ -1,0 +1,71 @@
+#pragma once
+/// What the dashboard shows that the engine does not keep itself: outcomes per
+/// link, the spectrum of the nodes someone is watching, and the constellation
+/// of each node's last decoded frame. An engine observer; every method is
+/// thread-safe.
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "rfsitl/engine/engine_observer.hpp"
+#include "rfsitl/monitor/spectrum.hpp"
+
+namespace rfsitl::monitor {
+
+struct Constellation {
+  SampleTime time = 0;  ///< tick of the decode
+  NodeId src = 0;
+  NodeId dst = 0;
+  std::uint32_t serial = 0;
+  bool payload_valid = false;
+  std::vector<cf32> points;  ///< at most kMaxConstellationPoints, evenly picked
+};
+
+class LiveView final : public engine::EngineObserver {
+ public:
+  static constexpr std::size_t kSpectrumBins = 256;
+  static constexpr std::size_t kMaxConstellationPoints = 512;
+
+  explicit LiveView(std::vector<NodeId> ids);
+
+  void on_frame_event(const engine::FrameEvent& e) override;
+  void on_rx_samples(std::size_t node, SampleTime time, std::span<const cf32> samples) override;
+  bool wants_samples(std::size_t node) const override;
+  void on_decode(std::size_t node, SampleTime time, const phy::RxEvent& ev) override;
+
+  /// A viewer starts (+1) or stops (-1) watching node `node`'s spectrum.
+  void watch(std::size_t node, int delta);
+
+  /// Frames decoded (received) and lost, per link, row-major [tx * N + rx].
+  struct LinkOutcomes {
+    std::vector<std::uint32_t> received;
+    std::vector<std::uint32_t> lost;
+  };
+  LinkOutcomes link_outcomes() const;
+
+  /// Moves the averages of every watched node into their published spectra
+  /// (call periodically, e.g. per dashboard push); spectrum() reads them.
+  void publish_spectra();
+  /// dB per bin, DC in the middle; empty if nothing was published.
+  std::vector<float> spectrum(std::size_t node) const;
+
+  std::optional<Constellation> constellation(std::size_t node) const;
+
+ private:
+  std::optional<std::size_t> index_of(NodeId id) const;
+
+  std::vector<NodeId> ids_;
+  std::size_t n_;
+  mutable std::mutex links_mutex_;
+  LinkOutcomes links_;
+  std::unique_ptr<std::atomic<int>[]> watchers_;
+  mutable std::mutex spectra_mutex_;
+  std::vector<std::unique_ptr<SpectrumAverager>> averagers_;
+  std::vector<std::vector<float>> published_;
+  mutable std::mutex constellation_mutex_;
+  std::vector<std::optional<Constellation>> constellations_;
+};
+
+}  // namespace rfsitl::monitor

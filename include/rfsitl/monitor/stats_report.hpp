@@ -1,0 +1,28 @@
+#pragma once
+/// The run's state as JSON (`--summary-json`, /api/stats, the dashboard's
+/// snapshots) and as Prometheus text (/metrics). Everything is read through the
+/// engine's thread-safe views, so any thread may call these during a run.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "rfsitl/engine/engine.hpp"
+#include "rfsitl/monitor/live_view.hpp"
+#include "rfsitl/scenario/scenario.hpp"
+
+namespace rfsitl::monitor {
+
+/// Progress and every node's counters (the --summary-json document).
+nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e);
+
+/// stats_json plus positions (local ENU metres and WGS84), the link matrix as
+/// SNR in dB (null: no link), each receiver's sensitivity, and the decoded
+/// and lost frames per link (the dashboard's snapshot message).
+nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, const LiveView& view,
+                             const std::vector<double>& sensitivity_db, bool control);
+
+/// Prometheus text exposition format 0.0.4.
+std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e);
+
+}  // namespace rfsitl::monitor

@@ -1,0 +1,135 @@
+#include "event_reporter.hpp"
+
+#include <cmath>
+
+namespace rfsitl::engine {
+
+const char* frame_event_name(FrameEventKind kind) {
+  switch (kind) {
+    case FrameEventKind::kHandedIn: return "handed_in";
+    case FrameEventKind::kQueueDropped: return "queue_dropped";
+    case FrameEventKind::kTransmitted: return "transmitted";
+    case FrameEventKind::kReceived: return "received";
+    case FrameEventKind::kDelivered: return "delivered";
+    case FrameEventKind::kLost: return "lost";
+  }
+  return "unknown";
+}
+
+EventReporter::EventReporter(const scenario::Scenario& s, const channel::ChannelMatrix& channel)
+    : scenario_(s), channel_(channel) {}
+
+FrameEvent EventReporter::make(FrameEventKind kind, std::size_t sender, NodeId src, NodeId dst,
+                               SampleTime t) const {
+  FrameEvent e;
+  e.kind = kind;
+  e.time = t;
+  e.src = src;
+  e.dst = dst;
+  e.node = scenario_.nodes[sender].id;
+  const scenario::PhyConfig& phy = scenario_.phy_of(sender);
+  e.phy = phy.type;
+  if (phy.type == "ofdm") e.rate_mbps = phy.rate_mbps;
+  return e;
+}
+
+std::optional<std::size_t> EventReporter::receiver_of(std::size_t tx, NodeId dst) const {
+  if (dst == kBroadcastId) {
+    // The receiver with the best link, as the ledger names a broadcast's loss.
+    std::optional<std::size_t> best;
+    for (std::size_t m = 0; m < channel_.size(); ++m) {
+      if (m != tx && (!best || channel_.power_gain(tx, m) > channel_.power_gain(tx, *best))) best = m;
+    }
+    return best;
+  }
+  for (std::size_t m = 0; m < scenario_.nodes.size(); ++m) {
+    if (scenario_.nodes[m].id == dst) return m;
+  }
+  return std::nullopt;
+}
+
+std::optional<double> EventReporter::snr_db(std::size_t tx, std::optional<std::size_t> rx) const {
+  const double noise = scenario_.channel.noise_variance;
+  if (!rx || noise <= 0.0) return std::nullopt;
+  const double gain = channel_.power_gain(tx, *rx);
+  if (gain <= 0.0) return std::nullopt;
+  return 10.0 * std::log10(gain / noise);
+}
+
+void EventReporter::emit(const FrameEvent& e) const {
+  for (EngineObserver* o : observers_) o->on_frame_event(e);
+}
+
+void EventReporter::handed_in(std::size_t node, const NetFrame& f, SampleTime t) const {
+  if (!active()) return;
+  FrameEvent e = make(FrameEventKind::kHandedIn, node, f.src, f.dst, t);
+  e.payload = f.payload;
+  emit(e);
+}
+
+void EventReporter::queue_dropped(std::size_t node, const NetFrame& f, SampleTime t) const {
+  if (!active()) return;
+  FrameEvent e = make(FrameEventKind::kQueueDropped, node, f.src, f.dst, t);
+  e.payload = f.payload;
+  emit(e);
+}
+
+void EventReporter::transmitted(std::size_t node, std::uint32_t serial, const NetFrame& f,
+                                SampleTime start, std::size_t length) {
+  if (!active()) return;
+  FrameEvent e = make(FrameEventKind::kTransmitted, node, f.src, f.dst, start);
+  e.serial = serial;
+  e.length_samples = static_cast<std::uint32_t>(length);
+  e.snr_db = snr_db(node, receiver_of(node, f.dst));
+  e.payload = f.payload;
+  emit(e);
+  payloads_[serial] = f.payload;
+}
+
+void EventReporter::received(std::size_t rx, const phy::FrameTag& tag,
+                             const std::vector<std::uint8_t>& payload, SampleTime t) const {
+  if (!active()) return;
+  const std::size_t tx = tag.serial >> 24;  // the engine's serial carries the sender's index
+  FrameEvent e = make(FrameEventKind::kReceived, tx, tag.src, tag.dst, t);
+  e.node = scenario_.nodes[rx].id;
+  e.serial = tag.serial;
+  e.snr_db = snr_db(tx, rx);
+  e.payload = payload;
+  emit(e);
+}
+
+void EventReporter::outcome(const LedgerOutcome& o, SampleTime now) {
+  if (!active()) return;
+  const auto& src_id = scenario_.nodes[o.tx].id;
+  FrameEvent e = make(o.delivered ? FrameEventKind::kDelivered : FrameEventKind::kLost, o.tx,
+                      src_id, o.dst, now);
+  e.serial = o.serial;
+  e.length_samples = static_cast<std::uint32_t>(o.end - o.start);
+  e.reason = o.reason;
+  e.snr_db = snr_db(o.tx, o.rx ? o.rx : receiver_of(o.tx, o.dst));
+  if (const auto it = payloads_.find(o.serial); it != payloads_.end()) {
+    e.payload = std::move(it->second);
+    payloads_.erase(it);
+  }
+  emit(e);
+}
+
+bool EventReporter::wants_samples(std::size_t node) const {
+  for (const EngineObserver* o : observers_) {
+    if (o->wants_samples(node)) return true;
+  }
+  return false;
+}
+
+void EventReporter::rx_samples(std::size_t node, SampleTime t,
+                               std::span<const cf32> samples) const {
+  for (EngineObserver* o : observers_) {
+    if (o->wants_samples(node)) o->on_rx_samples(node, t, samples);
+  }
+}
+
+void EventReporter::decoded(std::size_t node, SampleTime t, const phy::RxEvent& ev) const {
+  for (EngineObserver* o : observers_) o->on_decode(node, t, ev);
+}
+
+}  // namespace rfsitl::engine

@@ -1,0 +1,53 @@
+#pragma once
+/// Builds FrameEvents from what the engine and the ledger know and hands them
+/// to the observers. Internal to the engine.
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "rfsitl/channel/channel_matrix.hpp"
+#include "rfsitl/common/net_frame.hpp"
+#include "rfsitl/engine/engine_observer.hpp"
+#include "rfsitl/engine/frame_ledger.hpp"
+#include "rfsitl/scenario/scenario.hpp"
+
+namespace rfsitl::engine {
+
+class EventReporter {
+ public:
+  EventReporter(const scenario::Scenario& s, const channel::ChannelMatrix& channel);
+
+  /// Before the run only.
+  void add(EngineObserver& observer) { observers_.push_back(&observer); }
+  bool active() const { return !observers_.empty(); }
+
+  // I/O or engine thread.
+  void handed_in(std::size_t node, const NetFrame& f, SampleTime t) const;
+  void queue_dropped(std::size_t node, const NetFrame& f, SampleTime t) const;
+
+  // Engine thread.
+  void transmitted(std::size_t node, std::uint32_t serial, const NetFrame& f, SampleTime start,
+                   std::size_t length);
+  void received(std::size_t rx, const phy::FrameTag& tag, const std::vector<std::uint8_t>& payload,
+                SampleTime t) const;
+  void outcome(const LedgerOutcome& o, SampleTime now);
+  bool wants_samples(std::size_t node) const;
+  void rx_samples(std::size_t node, SampleTime t, std::span<const cf32> samples) const;
+
+  // Worker threads.
+  void decoded(std::size_t node, SampleTime t, const phy::RxEvent& ev) const;
+
+ private:
+  FrameEvent make(FrameEventKind kind, std::size_t sender, NodeId src, NodeId dst,
+                  SampleTime t) const;
+  std::optional<double> snr_db(std::size_t tx, std::optional<std::size_t> rx) const;
+  std::optional<std::size_t> receiver_of(std::size_t tx, NodeId dst) const;
+  void emit(const FrameEvent& e) const;
+
+  const scenario::Scenario& scenario_;
+  const channel::ChannelMatrix& channel_;
+  std::vector<EngineObserver*> observers_;
+  std::unordered_map<std::uint32_t, std::vector<std::uint8_t>> payloads_;  // by serial, in flight
+};
+
+}  // namespace rfsitl::engine

@@ -1,0 +1,458 @@
+#include <utility>  // GCC 12 + C++20: before Boost.Asio
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/monitor/dashboard.hpp"
+#include "rfsitl/monitor/stats_report.hpp"
+#include "rfsitl/phy/phy_registry.hpp"
+#include "web_assets.hpp"
+
+namespace rfsitl::monitor {
+namespace {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
+using Json = nlohmann::json;
+
+/// A viewer that cannot keep up loses snapshots rather than growing a backlog.
+constexpr std::size_t kMaxQueuedMessages = 8;
+constexpr std::size_t kMaxRequestBytes = 64 * 1024;
+
+class Server;
+
+class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
+ public:
+  ViewerSession(tcp::socket socket, Server& server) : ws_(std::move(socket)), server_(server) {}
+  void start(http::request<http::string_body> request);
+  void send(std::shared_ptr<const std::string> message);
+  std::optional<std::size_t> watching() const { return watching_; }
+  SampleTime last_constellation = -1;
+  void close();
+
+ private:
+  void read();
+  void on_message(const std::string& text);
+  void write_next();
+  void finish();
+
+  websocket::stream<beast::tcp_stream> ws_;
+  Server& server_;
+  beast::flat_buffer buffer_;
+  std::deque<std::shared_ptr<const std::string>> queue_;
+  std::optional<std::size_t> watching_;
+  bool finished_ = false;
+};
+
+class Server final : public Dashboard {
+ public:
+  Server(const DashboardSettings& settings, const scenario::Scenario& s, engine::Engine& e)
+      : settings_(settings), scenario_(s), engine_(e), view_(e.node_ids()), timer_(io_) {
+    for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+      const scenario::PhyConfig& phy = s.phy_of(i);
+      sensitivity_.push_back(phy.type == "external"
+                                 ? NAN
+                                 : phy::make_transceiver(phy)->sensitivity_snr_db());
+    }
+    listen();
+    engine_.add_observer(view_);
+    schedule_push();
+    thread_ = std::thread([this] { io_.run(); });
+  }
+
+  ~Server() override {
+    asio::post(io_, [this] {
+      acceptor_.close();
+      timer_.cancel();
+      for (const auto& w : viewers_) {
+        if (auto v = w.lock()) v->close();
+      }
+      io_.stop();
+    });
+    thread_.join();
+  }
+
+  std::string url() const override {
+    const bool v6 = settings_.bind_address.find(':') != std::string::npos;
+    return "http://" + (v6 ? "[" + settings_.bind_address + "]" : settings_.bind_address) + ":" +
+           std::to_string(port_) + "/";
+  }
+  std::uint16_t port() const override { return port_; }
+  std::size_t viewers() const override { return viewer_count_.load(); }
+
+  // ---- called on the I/O thread by sessions --------------------------------------
+  void add_viewer(const std::shared_ptr<ViewerSession>& v) {
+    viewers_.push_back(v);
+    viewer_count_.store(viewers_.size());
+    Json hello = {{"type", "hello"},
+                  {"scenario", scenario_.name},
+                  {"control", settings_.control},
+                  {"sample_rate_hz", scenario_.timing.sample_rate_hz},
+                  {"spectrum_bins", LiveView::kSpectrumBins},
+                  {"node_ids", engine_.node_ids()}};
+    v->send(std::make_shared<const std::string>(hello.dump()));
+    if (latest_) v->send(latest_);
+  }
+
+  void remove_viewer(ViewerSession* v) {
+    std::erase_if(viewers_, [v](const auto& w) {
+      const auto p = w.lock();
+      return !p || p.get() == v;
+    });
+    viewer_count_.store(viewers_.size());
+  }
+
+  void watch(std::optional<std::size_t> node, int delta) {
+    if (node) view_.watch(*node, delta);
+  }
+
+  std::optional<std::size_t> node_index(const Json& id) const {
+    if (!id.is_number_unsigned() || id.get<unsigned>() > kMaxNodeId) return std::nullopt;
+    return engine_.index_of(static_cast<NodeId>(id.get<unsigned>()));
+  }
+
+  /// Moves a node as a location feed would; returns an error text or "".
+  std::string move_node(std::size_t index, const Json& where) {
+    if (!settings_.control) {
+      return "control is off: start the emulator with --dashboard-control to move nodes";
+    }
+    try {
+      Position p;
+      if (where.contains("lat")) {
+        p = GeodeticPosition{where.at("lat").get<double>(), where.at("lon").get<double>(),
+                             where.value("alt", 0.0)};
+      } else {
+        p = LocalPosition{where.at("x").get<double>(), where.at("y").get<double>(),
+                          where.value("z", 0.0)};
+      }
+      engine_.set_position(index, channel::to_ecef(p, scenario_.channel.origin));
+      spdlog::info("dashboard: node {} moved by a viewer", engine_.node_ids()[index]);
+      return "";
+    } catch (const Json::exception& e) {
+      return std::string("bad position: ") + e.what();
+    }
+  }
+
+  http::response<http::string_body> handle(const http::request<http::string_body>& req);
+
+ private:
+  void listen() {
+    boost::system::error_code ec;
+    const auto address = asio::ip::make_address(settings_.bind_address, ec);
+    if (ec) {
+      throw std::runtime_error("dashboard: bad bind address '" + settings_.bind_address +
+                               "': " + ec.message());
+    }
+    const auto try_port = [&](std::uint16_t port) {
+      acceptor_.close(ec);
+      ec.clear();
+      acceptor_.open(address.is_v6() ? tcp::v6() : tcp::v4(), ec);
+      if (!ec) acceptor_.set_option(asio::socket_base::reuse_address(true), ec);
+      if (!ec) acceptor_.bind(tcp::endpoint(address, port), ec);
+      if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+      return !ec;
+    };
+    if (!try_port(settings_.port)) {
+      const std::string first = ec.message();
+      if (!settings_.fall_back_to_any_port || settings_.port == 0 || !try_port(0)) {
+        throw std::runtime_error("dashboard port " + std::to_string(settings_.port) + " on " +
+                                 settings_.bind_address + ": " + first);
+      }
+      spdlog::warn("dashboard: port {} is taken ({}); using port {} instead", settings_.port, first,
+                   acceptor_.local_endpoint().port());
+    }
+    port_ = acceptor_.local_endpoint().port();
+    accept();
+  }
+
+  void accept();
+
+  void schedule_push() {
+    timer_.expires_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(settings_.push_interval_s)));
+    timer_.async_wait([this](const boost::system::error_code& ec) {
+      if (ec) return;
+      push();
+      schedule_push();
+    });
+  }
+
+  void push();
+
+  DashboardSettings settings_;
+  const scenario::Scenario& scenario_;
+  engine::Engine& engine_;
+  LiveView view_;
+  std::vector<double> sensitivity_;
+  asio::io_context io_;
+  tcp::acceptor acceptor_{io_};
+  asio::steady_timer timer_;
+  std::uint16_t port_ = 0;
+  std::vector<std::weak_ptr<ViewerSession>> viewers_;
+  std::atomic<std::size_t> viewer_count_{0};
+  std::shared_ptr<const std::string> latest_;
+  std::thread thread_;
+};
+
+// ---- plain HTTP ----------------------------------------------------------------------
+
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket socket, Server& server) : stream_(std::move(socket)), server_(server) {}
+  void start() { read(); }
+
+ private:
+  void read() {
+    parser_.emplace();
+    parser_->body_limit(kMaxRequestBytes);
+    stream_.expires_after(std::chrono::seconds(30));
+    http::async_read(stream_, buffer_, *parser_,
+                     [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                       self->on_read(ec);
+                     });
+  }
+
+  void on_read(beast::error_code ec) {
+    if (ec) {
+      stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+      return;
+    }
+    auto req = parser_->release();
+    if (websocket::is_upgrade(req) && req.target() == "/ws") {
+      stream_.expires_never();
+      std::make_shared<ViewerSession>(stream_.release_socket(), server_)->start(std::move(req));
+      return;
+    }
+    auto res = std::make_shared<http::response<http::string_body>>(server_.handle(req));
+    http::async_write(stream_, *res,
+                      [self = shared_from_this(), res](beast::error_code wec, std::size_t) {
+                        if (!wec && res->keep_alive()) self->read();
+                      });
+  }
+
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  Server& server_;
+};
+
+void Server::accept() {
+  acceptor_.async_accept([this](beast::error_code ec, tcp::socket s) {
+    if (ec) return;  // closed
+    std::make_shared<HttpSession>(std::move(s), *this)->start();
+    accept();
+  });
+}
+
+http::response<http::string_body> Server::handle(const http::request<http::string_body>& req) {
+  http::response<http::string_body> res;
+  res.version(req.version());
+  res.keep_alive(req.keep_alive());
+  res.set(http::field::server, "rfsitl");
+  res.set(http::field::cache_control, "no-store");
+  const auto reply = [&](http::status status, std::string_view type, std::string body) {
+    res.result(status);
+    res.set(http::field::content_type, beast::string_view(type.data(), type.size()));
+    res.body() = std::move(body);
+    res.prepare_payload();
+    return res;
+  };
+  const auto error = [&](http::status status, const std::string& message) {
+    return reply(status, "application/json", Json{{"error", message}}.dump());
+  };
+  std::string target(req.target());
+  if (const auto q = target.find('?'); q != std::string::npos) target.resize(q);
+  if (req.method() == http::verb::get) {
+    if (target == "/") target = "/index.html";
+    for (const WebAsset& a : web_assets()) {
+      if (a.path == target) return reply(http::status::ok, a.content_type, std::string(a.body));
+    }
+    if (target == "/api/stats") {
+      return reply(http::status::ok, "application/json", stats_json(scenario_, engine_).dump());
+    }
+    if (target == "/api/snapshot") {
+      view_.publish_spectra();
+      return reply(http::status::ok, "application/json",
+                   snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump());
+    }
+    if (target == "/metrics") {
+      return reply(http::status::ok, "text/plain; version=0.0.4",
+                   prometheus_text(scenario_, engine_));
+    }
+    return error(http::status::not_found, "no such page: " + target);
+  }
+  static constexpr std::string_view kPrefix = "/api/nodes/";
+  static constexpr std::string_view kSuffix = "/position";
+  if (req.method() == http::verb::post && target.starts_with(kPrefix) &&
+      target.ends_with(kSuffix)) {
+    const std::string id_text =
+        target.substr(kPrefix.size(), target.size() - kPrefix.size() - kSuffix.size());
+    unsigned id = 0;
+    try {
+      std::size_t used = 0;
+      id = static_cast<unsigned>(std::stoul(id_text, &used));
+      if (used != id_text.size()) throw std::invalid_argument(id_text);
+    } catch (const std::exception&) {
+      return error(http::status::bad_request, "bad node id '" + id_text + "'");
+    }
+    const auto index = node_index(Json(id));
+    if (!index) return error(http::status::not_found, "no node " + id_text);
+    const Json body = Json::parse(req.body(), nullptr, false);
+    if (body.is_discarded()) return error(http::status::bad_request, "body is not JSON");
+    const std::string why = move_node(*index, body);
+    if (!why.empty()) {
+      return error(settings_.control ? http::status::bad_request : http::status::forbidden, why);
+    }
+    return reply(http::status::ok, "application/json", Json{{"ok", true}}.dump());
+  }
+  return error(http::status::method_not_allowed, "unsupported request");
+}
+
+void Server::push() {
+  if (viewers_.empty()) return;
+  view_.publish_spectra();
+  latest_ = std::make_shared<const std::string>(
+      snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump());
+  std::map<std::size_t, std::shared_ptr<const std::string>> spectra;
+  const double virtual_s = engine_.status().virtual_s;
+  for (const auto& w : viewers_) {
+    const auto v = w.lock();
+    if (!v) continue;
+    v->send(latest_);
+    const auto node = v->watching();
+    if (!node) continue;
+    auto& spectrum = spectra[*node];
+    if (!spectrum) {
+      Json bins = Json::array();
+      for (const float b : view_.spectrum(*node)) bins.push_back(std::round(b * 10.0F) / 10.0F);
+      spectrum = std::make_shared<const std::string>(
+          Json{{"type", "spectrum"},
+               {"node", engine_.node_ids()[*node]},
+               {"virtual_s", virtual_s},
+               {"sample_rate_hz", scenario_.timing.sample_rate_hz},
+               {"bins_db", bins}}
+              .dump());
+    }
+    v->send(spectrum);
+    const auto c = view_.constellation(*node);
+    if (c && c->time != v->last_constellation) {
+      v->last_constellation = c->time;
+      Json points = Json::array();
+      for (const cf32 p : c->points) {
+        points.push_back({std::round(p.real() * 1000.0F) / 1000.0F,
+                          std::round(p.imag() * 1000.0F) / 1000.0F});
+      }
+      v->send(std::make_shared<const std::string>(
+          Json{{"type", "constellation"},
+               {"node", engine_.node_ids()[*node]},
+               {"virtual_s", static_cast<double>(c->time) / scenario_.timing.sample_rate_hz},
+               {"src", c->src},
+               {"dst", c->dst},
+               {"serial", c->serial},
+               {"valid", c->payload_valid},
+               {"points", points}}
+              .dump()));
+    }
+  }
+}
+
+// ---- WebSocket viewers ---------------------------------------------------------------
+
+void ViewerSession::start(http::request<http::string_body> request) {
+  ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+  ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+    if (ec) return;
+    // One I/O thread runs every session and the server: no locking needed.
+    self->server_.add_viewer(self);
+    self->read();
+  });
+}
+
+void ViewerSession::read() {
+  ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    if (ec) return self->finish();
+    const std::string text = beast::buffers_to_string(self->buffer_.data());
+    self->buffer_.consume(self->buffer_.size());
+    self->on_message(text);
+    self->read();
+  });
+}
+
+void ViewerSession::on_message(const std::string& text) {
+  const Json m = Json::parse(text, nullptr, false);
+  const auto reply_error = [this](const std::string& why) {
+    send(std::make_shared<const std::string>(Json{{"type", "error"}, {"message", why}}.dump()));
+  };
+  if (m.is_discarded() || !m.is_object() || !m.contains("type")) {
+    return reply_error("messages are JSON objects with a \"type\"");
+  }
+  const auto node = m.contains("node") ? server_.node_index(m["node"]) : std::nullopt;
+  if (m["type"] == "watch") {
+    server_.watch(watching_, -1);
+    watching_ = node;
+    server_.watch(watching_, +1);
+    last_constellation = -1;
+  } else if (m["type"] == "move") {
+    if (!node) return reply_error("move: unknown node");
+    const std::string why = server_.move_node(*node, m);
+    if (!why.empty()) reply_error(why);
+  } else {
+    reply_error("unknown message type");
+  }
+}
+
+void ViewerSession::send(std::shared_ptr<const std::string> message) {
+  if (finished_ || queue_.size() >= kMaxQueuedMessages) return;
+  queue_.push_back(std::move(message));
+  if (queue_.size() == 1) write_next();
+}
+
+void ViewerSession::write_next() {
+  ws_.text(true);
+  ws_.async_write(asio::buffer(*queue_.front()),
+                  [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                    if (ec) return self->finish();
+                    self->queue_.pop_front();
+                    if (!self->queue_.empty()) self->write_next();
+                  });
+}
+
+void ViewerSession::finish() {
+  if (finished_) return;
+  finished_ = true;
+  queue_.clear();
+  server_.watch(watching_, -1);
+  watching_.reset();
+  server_.remove_viewer(this);
+}
+
+void ViewerSession::close() {
+  beast::error_code ec;
+  beast::get_lowest_layer(ws_).socket().close(ec);
+}
+
+}  // namespace
+
+std::unique_ptr<Dashboard> start_dashboard(const DashboardSettings& settings,
+                                           const scenario::Scenario& scenario,
+                                           engine::Engine& engine) {
+  return std::make_unique<Server>(settings, scenario, engine);
+}
+
+}  // namespace rfsitl::monitor

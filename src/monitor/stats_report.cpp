@@ -1,0 +1,148 @@
+#include "rfsitl/monitor/stats_report.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "rfsitl/channel/geodesy.hpp"
+
+namespace rfsitl::monitor {
+namespace {
+
+std::string reason_name(std::size_t r) {
+  return std::string(engine::loss_reason_name(static_cast<engine::LossReason>(r)));
+}
+
+nlohmann::json node_json(const scenario::Scenario& s, engine::Engine& e, std::size_t i) {
+  const auto c = e.counters(i).snapshot();
+  nlohmann::json n;
+  n["id"] = e.node_ids()[i];
+  n["phy"] = s.phy_of(i).type;
+  n["handed_in"] = c.handed_in;
+  n["queue_dropped"] = c.queue_dropped;
+  n["transmitted"] = c.transmitted;
+  n["delivered"] = c.delivered;
+  for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) n["lost"][reason_name(r)] = c.lost[r];
+  n["pending"] = c.pending();
+  n["received"] = c.received;
+  n["rx_crc_failures"] = c.rx_crc_failures;
+  n["framing_errors"] = c.framing_errors;
+  n["to_agent_dropped"] = c.to_agent_dropped;
+  n["location_updates"] = c.location_updates;
+  n["location_errors"] = c.location_errors;
+  n["queue_depth"] = e.queue_depth(i);
+  return n;
+}
+
+double round_to(double v, double step) { return std::round(v / step) * step; }
+
+}  // namespace
+
+nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e) {
+  const engine::EngineStatus st = e.status();
+  nlohmann::json j;
+  j["scenario"] = s.name;
+  j["sample_rate_hz"] = s.timing.sample_rate_hz;
+  j["virtual_s"] = st.virtual_s;
+  j["wall_s"] = st.wall_s;
+  j["lag_s"] = st.lag_s;
+  j["max_lag_s"] = st.max_lag_s;
+  j["late_ticks"] = st.late_ticks;
+  j["late_decodes"] = st.late_decodes;
+  j["receiver_ticks_run"] = st.receiver_ticks_run;
+  j["receiver_ticks_skipped"] = st.receiver_ticks_skipped;
+  j["receiver_ticks_blanked"] = st.receiver_ticks_blanked;
+  j["nodes"] = nlohmann::json::array();
+  for (std::size_t i = 0; i < e.num_nodes(); ++i) j["nodes"].push_back(node_json(s, e, i));
+  return j;
+}
+
+nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, const LiveView& view,
+                             const std::vector<double>& sensitivity_db, bool control) {
+  nlohmann::json j = stats_json(s, e);
+  j["type"] = "snapshot";
+  j["control"] = control;
+  j["noise_db"] = 10.0 * std::log10(std::max(s.channel.noise_variance, 1e-300));
+  const auto positions = e.positions();
+  for (std::size_t i = 0; i < positions.size() && i < j["nodes"].size(); ++i) {
+    auto& n = j["nodes"][i];
+    if (!positions[i]) {
+      n["position"] = nullptr;
+      continue;
+    }
+    const LocalPosition l = channel::ecef_to_local(*positions[i], s.channel.origin);
+    const GeodeticPosition g = channel::ecef_to_geodetic(*positions[i]);
+    n["position"] = {{"x", round_to(l.x_m, 0.01)},  {"y", round_to(l.y_m, 0.01)},
+                     {"z", round_to(l.z_m, 0.01)},  {"lat", round_to(g.lat_deg, 1e-7)},
+                     {"lon", round_to(g.lon_deg, 1e-7)}, {"alt", round_to(g.alt_m, 0.01)}};
+    n["sensitivity_db"] = i < sensitivity_db.size() ? nlohmann::json(sensitivity_db[i]) : nullptr;
+  }
+  const std::size_t n = e.num_nodes();
+  const auto gains = e.link_gains();
+  const double noise = s.channel.noise_variance;
+  nlohmann::json snr = nlohmann::json::array();
+  for (std::size_t k = 0; k < n * n && k < gains.size(); ++k) {
+    const bool self = k / n == k % n;
+    if (self || gains[k] <= 0.0F || noise <= 0.0) {
+      snr.push_back(nullptr);
+    } else {
+      snr.push_back(round_to(10.0 * std::log10(gains[k] / noise), 0.1));
+    }
+  }
+  const auto outcomes = view.link_outcomes();
+  j["links"] = {{"n", n}, {"snr_db", snr}, {"received", outcomes.received}, {"lost", outcomes.lost}};
+  return j;
+}
+
+std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e) {
+  std::ostringstream o;
+  const auto family = [&o](const char* name, const char* type, const char* help) {
+    o << "# HELP " << name << ' ' << help << "\n# TYPE " << name << ' ' << type << '\n';
+  };
+  const engine::EngineStatus st = e.status();
+  family("rfsitl_virtual_seconds", "gauge", "Virtual time emulated so far.");
+  o << "rfsitl_virtual_seconds " << st.virtual_s << '\n';
+  family("rfsitl_realtime_lag_seconds", "gauge", "How late the latest tick started (real time).");
+  o << "rfsitl_realtime_lag_seconds " << st.lag_s << '\n';
+  family("rfsitl_realtime_lag_max_seconds", "gauge", "Worst real-time lag so far.");
+  o << "rfsitl_realtime_lag_max_seconds " << st.max_lag_s << '\n';
+  family("rfsitl_late_ticks_total", "counter", "Ticks started more than a tick late.");
+  o << "rfsitl_late_ticks_total " << st.late_ticks << '\n';
+  family("rfsitl_receiver_ticks_total", "counter", "Receiver-ticks by what happened to them.");
+  o << "rfsitl_receiver_ticks_total{state=\"run\"} " << st.receiver_ticks_run << '\n'
+    << "rfsitl_receiver_ticks_total{state=\"skipped\"} " << st.receiver_ticks_skipped << '\n'
+    << "rfsitl_receiver_ticks_total{state=\"blanked\"} " << st.receiver_ticks_blanked << '\n';
+  std::vector<engine::NodeCountersSnapshot> c;
+  for (std::size_t i = 0; i < e.num_nodes(); ++i) c.push_back(e.counters(i).snapshot());
+  const auto per_node = [&](const char* name, const char* type, const char* help, auto get) {
+    family(name, type, help);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      o << name << "{node=\"" << unsigned{e.node_ids()[i]} << "\"} " << get(i) << '\n';
+    }
+  };
+  per_node("rfsitl_frames_handed_in_total", "counter", "Frames the agent handed in.",
+           [&](std::size_t i) { return c[i].handed_in; });
+  per_node("rfsitl_frames_queue_dropped_total", "counter", "Frames refused by the full TX queue.",
+           [&](std::size_t i) { return c[i].queue_dropped; });
+  per_node("rfsitl_frames_transmitted_total", "counter", "Frames that went on the air.",
+           [&](std::size_t i) { return c[i].transmitted; });
+  per_node("rfsitl_frames_delivered_total", "counter", "Own frames that reached their destination.",
+           [&](std::size_t i) { return c[i].delivered; });
+  family("rfsitl_frames_lost_total", "counter", "Own frames lost on the air, by reason.");
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) {
+      o << "rfsitl_frames_lost_total{node=\"" << unsigned{e.node_ids()[i]} << "\",reason=\""
+        << reason_name(r) << "\"} " << c[i].lost[r] << '\n';
+    }
+  }
+  per_node("rfsitl_frames_received_total", "counter", "Frames decoded and handed to the agent.",
+           [&](std::size_t i) { return c[i].received; });
+  per_node("rfsitl_rx_crc_failures_total", "counter", "Decodes that failed the CRC.",
+           [&](std::size_t i) { return c[i].rx_crc_failures; });
+  per_node("rfsitl_tx_queue_depth", "gauge", "Frames waiting in the TX queue.",
+           [&](std::size_t i) { return e.queue_depth(i); });
+  family("rfsitl_info", "gauge", "The running scenario (value always 1).");
+  o << "rfsitl_info{scenario=\"" << s.name << "\",nodes=\"" << e.num_nodes() << "\"} 1\n";
+  return o.str();
+}
+
+}  // namespace rfsitl::monitor
