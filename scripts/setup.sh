@@ -8,7 +8,15 @@ PACKAGES=(
   libliquid-dev libfec-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib
+  # GNU Radio 3.10 and what our out-of-tree blocks (gr-rfsitl/) build with
+  gnuradio gnuradio-dev pybind11-dev python3-dev
+  # traces: libpcap to read pcapng back in tests, tshark to check Wireshark's view
+  libpcap-dev tshark
+  # the dashboard's browser test: Debian's Chromium driven by playwright-core (npm)
+  chromium nodejs
 )
+# Debian packages npm separately from nodejs; other nodejs builds bring their own.
+command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -22,5 +30,7 @@ echo "setup: installing ${missing[*]}"
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 export DEBIAN_FRONTEND=noninteractive
+# tshark asks whether non-root users may capture; the answer does not matter here.
+echo "wireshark-common wireshark-common/install-setuid boolean false" | $SUDO debconf-set-selections
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

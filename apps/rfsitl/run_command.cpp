@@ -22,6 +22,8 @@
 #include "rfsitl/external/external_runtime.hpp"
 #include "rfsitl/io/node_servers.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
+#include "rfsitl/monitor/pcap_trace.hpp"
+#include "rfsitl/monitor/sigmf_recorder.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
@@ -48,6 +50,14 @@ struct RunOptions {
   std::optional<std::string> phy_type;
   std::optional<std::string> external_socket;
   std::optional<double> external_timeout_s;
+  std::string pcap_path;
+  double pcap_max_mb = 100.0;
+  unsigned pcap_files = 5;
+  std::string sigmf_dir;
+  std::vector<unsigned> sigmf_nodes;
+  double sigmf_start_s = 0.0;
+  double sigmf_duration_s = 10.0;
+  double sigmf_max_mb = 200.0;
   std::optional<std::uint16_t> dashboard_port;
   bool no_dashboard = false;
   bool dashboard_control = false;
@@ -238,12 +248,34 @@ int run(const RunOptions& o) {
   auto servers = io::make_node_servers(sc);
   std::unique_ptr<external::ExternalRuntime> external;
   std::unique_ptr<engine::Engine> engine;
-  std::unique_ptr<monitor::Dashboard> dashboard;  // observes the engine: destroyed first
+  // Observers of the engine: destroyed before it.
+  std::unique_ptr<monitor::PcapTrace> pcap;
+  std::unique_ptr<monitor::SigmfRecorder> sigmf;
+  std::unique_ptr<monitor::Dashboard> dashboard;
   try {
     external = external::ExternalRuntime::create(s);
     engine = engine::make_engine(s, *servers,
                                  external ? external->transceiver_factory()
                                           : engine::TransceiverFactory{});
+    if (!o.pcap_path.empty()) {
+      pcap = monitor::make_pcap_trace(monitor::PcapTraceSettings{
+          o.pcap_path, static_cast<std::uint64_t>(o.pcap_max_mb * 1024 * 1024), o.pcap_files,
+          s.timing.sample_rate_hz, 10.0 * std::log10(std::max(s.channel.noise_variance, 1e-30))});
+      engine->add_observer(*pcap);
+    }
+    if (!o.sigmf_dir.empty()) {
+      monitor::SigmfSettings ss;
+      ss.directory = o.sigmf_dir;
+      for (const unsigned id : o.sigmf_nodes) ss.nodes.push_back(static_cast<NodeId>(id));
+      if (ss.nodes.empty()) {
+        for (const auto& n : s.nodes) ss.nodes.push_back(n.id);
+      }
+      ss.start_s = o.sigmf_start_s;
+      ss.duration_s = o.sigmf_duration_s;
+      ss.max_bytes = static_cast<std::uint64_t>(o.sigmf_max_mb * 1024 * 1024);
+      sigmf = monitor::make_sigmf_recorder(ss, s);
+      engine->add_observer(*sigmf);
+    }
     servers->start(*engine);
     if (!o.no_dashboard) {
       monitor::DashboardSettings ds;
@@ -262,6 +294,7 @@ int run(const RunOptions& o) {
   if (dashboard) {
     std::printf("rfsitl: dashboard %s (moving nodes %s)\n", dashboard->url().c_str(),
                 o.dashboard_control ? "allowed" : "off; --dashboard-control allows it");
+    std::fflush(stdout);
   }
   if (external && !wait_for_external_nodes(*external, s, signals)) {
     print_summary(*engine);
@@ -295,6 +328,12 @@ int run(const RunOptions& o) {
   stop.store(true);
   engine_thread.join();
   servers->stop();
+  if (sigmf) sigmf->finish();
+  if (pcap) {
+    pcap->flush();
+    std::printf("rfsitl: pcap trace %s: %llu frame events\n", o.pcap_path.c_str(),
+                static_cast<unsigned long long>(pcap->events_written()));
+  }
   print_summary(*engine);
   if (!o.summary_json.empty()) {
     std::ofstream out(o.summary_json);
@@ -351,6 +390,22 @@ std::function<int()> add_run_command(CLI::App& parent) {
                   "Unix socket for external transceivers (default /tmp/rfsitl-<net-base>.sock)");
   cmd->add_option("--external-timeout", opts->external_timeout_s,
                   "Seconds an external transceiver may take to answer before it is dropped")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--pcap", opts->pcap_path,
+                  "Write every frame event to this pcapng file (Wireshark; docs/traces.md)");
+  cmd->add_option("--pcap-max-mb", opts->pcap_max_mb, "Rotate the pcap file beyond this size")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--pcap-files", opts->pcap_files, "pcap files kept when rotating")
+      ->check(CLI::Range(1U, 1000U));
+  cmd->add_option("--sigmf", opts->sigmf_dir,
+                  "Record received I/Q in SigMF into this directory (docs/traces.md)");
+  cmd->add_option("--sigmf-nodes", opts->sigmf_nodes, "Node ids to record (default: all)")
+      ->delimiter(',');
+  cmd->add_option("--sigmf-start", opts->sigmf_start_s, "Virtual second the recording starts")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--sigmf-duration", opts->sigmf_duration_s, "Virtual seconds to record")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--sigmf-max-mb", opts->sigmf_max_mb, "Largest recording per node")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--dashboard-port", opts->dashboard_port,
                   "Port of the web dashboard (default 15700, or any free port if taken; 0: any)");

@@ -8,7 +8,8 @@ namespace rfsitl::external {
 
 const Welcome& ExternalClient::connect() {
   channel_ = MessageChannel::connect_to(settings_.socket_path);
-  have_tick_ = false;
+  // have_tick_ survives a reconnection: the first tick after rejoining is
+  // compared with the last one before the drop.
   const nlohmann::json hello = {{"node_id", settings_.node_id},
                                 {"role", settings_.role},
                                 {"program", settings_.program}};
@@ -42,7 +43,13 @@ const Welcome& ExternalClient::connect() {
     welcome_.tick_samples = j.at("tick_samples").get<std::uint32_t>();
     welcome_.virtual_time = j.at("time_mode").get<std::string>() == "virtual";
     welcome_.phy_json = j.contains("phy") ? j["phy"].dump() : std::string();
-  } catch (const nlohmann::json::exception& e) {
+    if (j.at("protocol").get<int>() != kProtocolVersion || welcome_.node_id != settings_.node_id) {
+      throw std::runtime_error("protocol " + std::to_string(j.at("protocol").get<int>()) +
+                               " for node " + std::to_string(welcome_.node_id) + ", expected " +
+                               std::to_string(kProtocolVersion) + " for node " +
+                               std::to_string(settings_.node_id));
+    }
+  } catch (const std::exception& e) {
     channel_.close();
     throw std::runtime_error(where + "bad welcome: " + e.what());
   }
@@ -50,25 +57,19 @@ const Welcome& ExternalClient::connect() {
 }
 
 RecvStatus ExternalClient::wait_tick(int timeout_ms) {
-  for (;;) {
-    const RecvStatus st = channel_.receive(message_, timeout_ms);
-    if (st != RecvStatus::kOk) {
-      if (st == RecvStatus::kMalformed) channel_.close();
-      return st == RecvStatus::kMalformed ? RecvStatus::kClosed : st;
-    }
-    if (message_.type() != MsgType::kTick) {
-      channel_.close();
-      return RecvStatus::kMalformed;
-    }
-    const std::uint64_t expected = tick_.index + 1;
-    tick_.follows_previous = !have_tick_ || message_.header.tick == expected;
-    if (!tick_.follows_previous) ++discontinuities_;
-    have_tick_ = true;
-    tick_.index = message_.header.tick;
-    tick_.time = message_.header.time;
-    tick_.rx = message_.samples;
-    return RecvStatus::kOk;
+  const RecvStatus st = channel_.receive(message_, timeout_ms);
+  if (st == RecvStatus::kTimeout || st == RecvStatus::kClosed) return st;
+  if (st == RecvStatus::kMalformed || message_.type() != MsgType::kTick) {
+    channel_.close();  // a slip in the protocol: start over with a new hello
+    return RecvStatus::kMalformed;
   }
+  tick_.follows_previous = !have_tick_ || message_.header.tick == tick_.index + 1;
+  if (!tick_.follows_previous) ++discontinuities_;
+  have_tick_ = true;
+  tick_.index = message_.header.tick;
+  tick_.time = message_.header.time;
+  tick_.rx = message_.samples;
+  return RecvStatus::kOk;
 }
 
 bool ExternalClient::send_tx(std::span<const cf32> tx) {

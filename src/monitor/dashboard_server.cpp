@@ -34,14 +34,20 @@ using Json = nlohmann::json;
 /// A viewer that cannot keep up loses snapshots rather than growing a backlog.
 constexpr std::size_t kMaxQueuedMessages = 8;
 constexpr std::size_t kMaxRequestBytes = 64 * 1024;
+/// Positions a viewer may set: a thousand kilometres around the origin.
+constexpr double kMaxCoordinateM = 1e6;
 
 class Server;
+
+bool same_origin(const http::request<http::string_body>& req);
 
 class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
  public:
   ViewerSession(tcp::socket socket, Server& server) : ws_(std::move(socket)), server_(server) {}
   void start(http::request<http::string_body> request);
-  void send(std::shared_ptr<const std::string> message);
+  /// Queues a message. A viewer that cannot keep up loses periodic messages
+  /// (snapshots, spectra: the next one replaces them), never the others.
+  void send(std::shared_ptr<const std::string> message, bool periodic = false);
   std::optional<std::size_t> watching() const { return watching_; }
   SampleTime last_constellation = -1;
   void close();
@@ -127,19 +133,36 @@ class Server final : public Dashboard {
     return engine_.index_of(static_cast<NodeId>(id.get<unsigned>()));
   }
 
-  /// Moves a node as a location feed would; returns an error text or "".
+  /// Moves a node as a location feed would; returns an error text or "". A
+  /// position without altitude (z or alt) keeps the node's current one.
   std::string move_node(std::size_t index, const Json& where) {
     if (!settings_.control) {
       return "control is off: start the emulator with --dashboard-control to move nodes";
     }
     try {
+      const auto current = engine_.positions().at(index);
       Position p;
       if (where.contains("lat")) {
-        p = GeodeticPosition{where.at("lat").get<double>(), where.at("lon").get<double>(),
-                             where.value("alt", 0.0)};
+        const double alt = where.contains("alt") ? where.at("alt").get<double>()
+                           : current         ? channel::ecef_to_geodetic(*current).alt_m
+                                             : 0.0;
+        const GeodeticPosition g{where.at("lat").get<double>(), where.at("lon").get<double>(),
+                                 alt};
+        if (!(std::abs(g.lat_deg) <= 90.0 && std::abs(g.lon_deg) <= 180.0 &&
+              std::abs(g.alt_m) <= kMaxCoordinateM)) {
+          return "position out of range (lat within +-90, lon within +-180, |alt| <= 1e6 m)";
+        }
+        p = g;
       } else {
-        p = LocalPosition{where.at("x").get<double>(), where.at("y").get<double>(),
-                          where.value("z", 0.0)};
+        const double z = where.contains("z") ? where.at("z").get<double>()
+                         : current           ? channel::ecef_to_local(*current, scenario_.channel.origin).z_m
+                                             : 0.0;
+        const LocalPosition l{where.at("x").get<double>(), where.at("y").get<double>(), z};
+        if (!(std::abs(l.x_m) <= kMaxCoordinateM && std::abs(l.y_m) <= kMaxCoordinateM &&
+              std::abs(l.z_m) <= kMaxCoordinateM)) {
+          return "position out of range (|x|, |y|, |z| <= 1e6 m)";
+        }
+        p = l;
       }
       engine_.set_position(index, channel::to_ecef(p, scenario_.channel.origin));
       spdlog::info("dashboard: node {} moved by a viewer", engine_.node_ids()[index]);
@@ -234,7 +257,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return;
     }
     auto req = parser_->release();
-    if (websocket::is_upgrade(req) && req.target() == "/ws") {
+    if (websocket::is_upgrade(req) && req.target() == "/ws" && same_origin(req)) {
       stream_.expires_never();
       std::make_shared<ViewerSession>(stream_.release_socket(), server_)->start(std::move(req));
       return;
@@ -258,6 +281,16 @@ void Server::accept() {
     std::make_shared<HttpSession>(std::move(s), *this)->start();
     accept();
   });
+}
+
+/// A request from another web site open in the user's browser carries that
+/// site's Origin; only the dashboard's own page (or a client without Origin,
+/// such as curl or a script) may watch and steer.
+bool same_origin(const http::request<http::string_body>& req) {
+  const auto origin = req.find(http::field::origin);
+  if (origin == req.end()) return true;
+  const auto host = req.find(http::field::host);
+  return host != req.end() && origin->value() == "http://" + std::string(host->value());
 }
 
 http::response<http::string_body> Server::handle(const http::request<http::string_body>& req) {
@@ -287,7 +320,6 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
       return reply(http::status::ok, "application/json", stats_json(scenario_, engine_).dump());
     }
     if (target == "/api/snapshot") {
-      view_.publish_spectra();
       return reply(http::status::ok, "application/json",
                    snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump());
     }
@@ -297,6 +329,7 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
     }
     return error(http::status::not_found, "no such page: " + target);
   }
+  if (!same_origin(req)) return error(http::status::forbidden, "cross-origin request refused");
   static constexpr std::string_view kPrefix = "/api/nodes/";
   static constexpr std::string_view kSuffix = "/position";
   if (req.method() == http::verb::post && target.starts_with(kPrefix) &&
@@ -334,13 +367,15 @@ void Server::push() {
   for (const auto& w : viewers_) {
     const auto v = w.lock();
     if (!v) continue;
-    v->send(latest_);
+    v->send(latest_, true);
     const auto node = v->watching();
     if (!node) continue;
     auto& spectrum = spectra[*node];
     if (!spectrum) {
+      const std::vector<float> db = view_.spectrum(*node);
+      if (db.empty()) continue;  // nothing averaged yet
       Json bins = Json::array();
-      for (const float b : view_.spectrum(*node)) bins.push_back(std::round(b * 10.0F) / 10.0F);
+      for (const float b : db) bins.push_back(std::round(b * 10.0F) / 10.0F);
       spectrum = std::make_shared<const std::string>(
           Json{{"type", "spectrum"},
                {"node", engine_.node_ids()[*node]},
@@ -349,7 +384,7 @@ void Server::push() {
                {"bins_db", bins}}
               .dump());
     }
-    v->send(spectrum);
+    v->send(spectrum, true);
     const auto c = view_.constellation(*node);
     if (c && c->time != v->last_constellation) {
       v->last_constellation = c->time;
@@ -402,8 +437,10 @@ void ViewerSession::on_message(const std::string& text) {
   if (m.is_discarded() || !m.is_object() || !m.contains("type")) {
     return reply_error("messages are JSON objects with a \"type\"");
   }
-  const auto node = m.contains("node") ? server_.node_index(m["node"]) : std::nullopt;
+  if (!m.contains("node")) return reply_error("messages need a \"node\"");
+  const auto node = server_.node_index(m["node"]);
   if (m["type"] == "watch") {
+    if (!node && !m["node"].is_null()) return reply_error("watch: unknown node");
     server_.watch(watching_, -1);
     watching_ = node;
     server_.watch(watching_, +1);
@@ -417,8 +454,8 @@ void ViewerSession::on_message(const std::string& text) {
   }
 }
 
-void ViewerSession::send(std::shared_ptr<const std::string> message) {
-  if (finished_ || queue_.size() >= kMaxQueuedMessages) return;
+void ViewerSession::send(std::shared_ptr<const std::string> message, bool periodic) {
+  if (finished_ || (periodic && queue_.size() >= kMaxQueuedMessages)) return;
   queue_.push_back(std::move(message));
   if (queue_.size() == 1) write_next();
 }

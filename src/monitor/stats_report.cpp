@@ -33,7 +33,12 @@ nlohmann::json node_json(const scenario::Scenario& s, engine::Engine& e, std::si
   return n;
 }
 
-double round_to(double v, double step) { return std::round(v / step) * step; }
+/// Rounds to `decimals` places (multiplying by 10^d, not dividing by 10^-d,
+/// keeps the printed number short).
+double round_to(double v, int decimals) {
+  const double scale = std::pow(10.0, decimals);
+  return std::round(v * scale) / scale;
+}
 
 }  // namespace
 
@@ -65,16 +70,18 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
   const auto positions = e.positions();
   for (std::size_t i = 0; i < positions.size() && i < j["nodes"].size(); ++i) {
     auto& n = j["nodes"][i];
+    n["sensitivity_db"] = i < sensitivity_db.size() && std::isfinite(sensitivity_db[i])
+                              ? nlohmann::json(sensitivity_db[i])
+                              : nlohmann::json(nullptr);
     if (!positions[i]) {
       n["position"] = nullptr;
       continue;
     }
     const LocalPosition l = channel::ecef_to_local(*positions[i], s.channel.origin);
     const GeodeticPosition g = channel::ecef_to_geodetic(*positions[i]);
-    n["position"] = {{"x", round_to(l.x_m, 0.01)},  {"y", round_to(l.y_m, 0.01)},
-                     {"z", round_to(l.z_m, 0.01)},  {"lat", round_to(g.lat_deg, 1e-7)},
-                     {"lon", round_to(g.lon_deg, 1e-7)}, {"alt", round_to(g.alt_m, 0.01)}};
-    n["sensitivity_db"] = i < sensitivity_db.size() ? nlohmann::json(sensitivity_db[i]) : nullptr;
+    n["position"] = {{"x", round_to(l.x_m, 2)},  {"y", round_to(l.y_m, 2)},
+                     {"z", round_to(l.z_m, 2)},  {"lat", round_to(g.lat_deg, 7)},
+                     {"lon", round_to(g.lon_deg, 7)}, {"alt", round_to(g.alt_m, 2)}};
   }
   const std::size_t n = e.num_nodes();
   const auto gains = e.link_gains();
@@ -85,7 +92,7 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
     if (self || gains[k] <= 0.0F || noise <= 0.0) {
       snr.push_back(nullptr);
     } else {
-      snr.push_back(round_to(10.0 * std::log10(gains[k] / noise), 0.1));
+      snr.push_back(round_to(10.0 * std::log10(gains[k] / noise), 1));
     }
   }
   const auto outcomes = view.link_outcomes();

@@ -120,6 +120,56 @@ TEST(FrameLedger, BackToBackOrInaudibleInterfererIsNotCollision) {
   EXPECT_EQ(w.lost(3, LossReason::kBelowSensitivity), 1U);
 }
 
+TEST(FrameLedger, ExternalActivityOverlappingAFrameIsCollisionAndIsNeverCounted) {
+  World w({-5.0, 0.0, 5.0});
+  // Node 3 (an external program) transmits in two adjoining ticks, then stops.
+  w.ledger.on_activity(2, 0, 250);
+  w.ledger.on_activity(2, 250, 500);
+  w.ledger.on_transmit(1, 0, 2, 400, 400 + kLen);  // overlaps the second tick
+  w.ledger.on_transmit(2, 0, 2, 10 * kLen, 11 * kLen);  // long after: clean
+  w.settle_all();
+  EXPECT_EQ(w.lost(0, LossReason::kCollision), 1U);
+  EXPECT_EQ(w.lost(0, LossReason::kDecodeFailure), 1U);
+  EXPECT_EQ(w.at(2).transmitted, 0U);  // activity is not a frame
+  EXPECT_EQ(w.at(2).lost_total(), 0U);
+}
+
+TEST(FrameLedger, ActivityOfTheReceiverItselfIsHalfDuplexAndSerialZeroStillDecodes) {
+  World w({0.0, 5.0});
+  w.ledger.on_activity(1, 0, 250);
+  w.ledger.on_transmit(0, 0, 2, 100, 100 + kLen);  // serial 0, like the engine's first frame
+  w.ledger.on_transmit(7, 0, 2, 10 * kLen, 11 * kLen);
+  EXPECT_TRUE(w.ledger.on_decoded(7, 1));
+  w.settle_all();
+  EXPECT_EQ(w.lost(0, LossReason::kHalfDuplex), 1U);
+  EXPECT_EQ(w.at(0).delivered, 1U);
+  World v({0.0, 5.0});
+  v.ledger.on_activity(1, 0, 250);
+  v.ledger.on_transmit(0, 0, 2, 10 * kLen, 11 * kLen);
+  EXPECT_TRUE(v.ledger.on_decoded(0, 1));  // the activity record does not shadow serial 0
+}
+
+TEST(FrameLedger, OutcomeCallbackReportsEachFrameOnceWithItsReason) {
+  World w({-5.0, 0.0, 5.0});
+  std::vector<LedgerOutcome> seen;
+  w.ledger.set_outcome_callback([&](const LedgerOutcome& o) { seen.push_back(o); });
+  w.ledger.on_transmit(1, 0, 2, 0, kLen);
+  w.ledger.on_transmit(2, 2, 2, kLen / 2, kLen / 2 + kLen);
+  w.ledger.on_transmit(3, 0, 3, 10 * kLen, 11 * kLen);
+  EXPECT_TRUE(w.ledger.on_decoded(3, 2));
+  w.settle_all();
+  ASSERT_EQ(seen.size(), 3U);
+  EXPECT_TRUE(seen[0].delivered);  // the decode comes first
+  EXPECT_EQ(seen[0].serial, 3U);
+  EXPECT_EQ(seen[0].rx, std::optional<std::size_t>(2));
+  for (std::size_t i = 1; i < 3; ++i) {
+    EXPECT_FALSE(seen[i].delivered);
+    EXPECT_EQ(seen[i].reason, LossReason::kCollision);
+    EXPECT_EQ(seen[i].rx, std::optional<std::size_t>(1));
+    EXPECT_EQ(seen[i].end - seen[i].start, kLen);
+  }
+}
+
 TEST(FrameLedger, UndecodedFrameWithNothingWrongIsDecodeFailure) {
   World w({0.0, 5.0});
   w.ledger.on_transmit(1, 0, 2, 0, kLen);

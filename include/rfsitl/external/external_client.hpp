@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "rfsitl/common/types.hpp"
 #include "rfsitl/external/message_channel.hpp"
@@ -49,7 +50,8 @@ class ExternalClient {
 
   /// Samples role: waits up to `timeout_ms` for the next tick. On kOk, tick()
   /// is valid and the caller must answer with send_tx() before the emulator's
-  /// timeout. kClosed: the emulator went away or dropped this node.
+  /// timeout. kClosed: the emulator went away or dropped this node; kMalformed:
+  /// an unexpected message (the connection is closed). Connect again after either.
   RecvStatus wait_tick(int timeout_ms);
   const Tick& tick() const { return tick_; }
 
@@ -57,8 +59,8 @@ class ExternalClient {
   /// emulator zero-pads fewer). Throws std::invalid_argument if tx.size() > B.
   bool send_tx(std::span<const cf32> tx);
 
-  /// Ticks that did not follow the previous one (the emulator dropped this node
-  /// in between, or a protocol slip).
+  /// Ticks that did not follow the previous one seen, across reconnections:
+  /// the emulator dropped this node in between (or a protocol slip).
   std::uint64_t discontinuities() const { return discontinuities_; }
 
   /// Raw access for the transceiver role.
