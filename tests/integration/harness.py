@@ -347,3 +347,66 @@ def child_pid(socket_path, node_id):
         if args[1:6] == want:
             return int(pid)
     return None
+
+
+SOURCE_DIR = os.environ.get("RFSITL_SOURCE_DIR",
+                            os.path.abspath(os.path.join(os.path.dirname(__file__), "..", "..")))
+GMSK_NODE = os.path.join(SOURCE_DIR, "examples", "gnuradio", "gmsk_node.py")
+
+
+class GnuRadioNode:
+    """examples/gnuradio/gmsk_node.py as a node of a running emulator (the
+    GNU Radio flowgraph with our source and sink, serving its own net port)."""
+
+    def __init__(self, emu, node_id):
+        self.emu = emu
+        self.node_id = node_id
+        self.proc = None
+        self.output = []
+
+    def start(self):
+        sock = f"/tmp/rfsitl-{self.emu.net_base}.sock"
+        self.proc = subprocess.Popen(
+            ["/usr/bin/python3", "-u", GMSK_NODE, "--socket", sock, "--id", str(self.node_id),
+             "--net-base", str(self.emu.net_base), "--reconnect-ms", "5000"],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        ready = threading.Event()
+
+        def pump():
+            for line in self.proc.stdout:
+                self.output.append(line)
+                if "ready, net port" in line:
+                    ready.set()
+            ready.set()
+
+        threading.Thread(target=pump, daemon=True).start()
+        if not ready.wait(60) or self.proc.poll() is not None:
+            self.kill()
+            raise RuntimeError(f"GNU Radio node {self.node_id} did not start:\n"
+                               + "".join(self.output))
+        return self
+
+    def kill(self):
+        if self.proc and self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait(10)
+
+    def stop(self):
+        if self.proc and self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+            try:
+                self.proc.wait(15)
+            except subprocess.TimeoutExpired:
+                self.kill()
+        if self.proc and self.proc.stdout:
+            self.proc.stdout.close()
+
+
+def wait_for_output(emu, text, timeout=60.0):
+    """Waits until the emulator has printed a line containing `text`."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if any(text in line for line in emu.output):
+            return True
+        time.sleep(0.05)
+    return False
