@@ -149,6 +149,26 @@ class Emulator:
         self._clients.append(c)
         return c
 
+    def stats(self):
+        """The running emulator's /api/stats (its dashboard must be on)."""
+        import re
+        import urllib.request
+        m = re.search(r"rfsitl: dashboard (http://\S+/)", "".join(self.output))
+        if not m:
+            raise AssertionError("the emulator printed no dashboard URL")
+        with urllib.request.urlopen(m.group(1) + "api/stats", timeout=5) as r:
+            return json.load(r)
+
+    def wait_until(self, predicate, timeout=20.0, what="condition"):
+        """Polls stats() until predicate(stats) holds."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            st = self.stats()
+            if predicate(st):
+                return st
+            time.sleep(0.02)
+        raise AssertionError(f"timed out waiting for {what}: {self.stats()}")
+
     def node(self, node_id):
         """Counters of one node from the summary (after stop())."""
         for n in self.summary["nodes"]:
