@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
-# Sets up, builds (sanitizers on) and runs every test: unit and integration.
+# Sets up, builds (sanitizers on) and runs every test: unit, integration (the
+# real emulator over loopback, GNU Radio nodes included) and the dashboard in
+# headless Chromium. Extra arguments go to ctest (e.g. -L unit, -R gnuradio).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh asan
+# The GNU Radio blocks: build and install (a no-op when up to date), then their
+# own QA tests (blocks against a stand-in emulator, in isolation).
+bash scripts/build_gr.sh --test
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 ctest --test-dir build/asan --output-on-failure -j "$(nproc)" "$@"
