@@ -411,6 +411,7 @@ void Server::push() {
 
 void ViewerSession::start(http::request<http::string_body> request) {
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+  ws_.auto_fragment(false);  // one frame per message: fewer writes for big snapshots
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
     if (ec) return;
     // One I/O thread runs every session and the server: no locking needed.
