@@ -82,14 +82,19 @@ class Hub final : public ExternalHub {
     const auto* sa = reinterpret_cast<const sockaddr*>(&addr);
     int rc = ::bind(fd, sa, sizeof addr);
     if (rc != 0 && errno == EADDRINUSE) {
-      // A socket file is there: in use if a live emulator accepts on it, else stale.
+      // Something is there. Only a socket nobody listens on (left by an
+      // emulator that died) is replaced; anything else is not ours to delete.
+      struct stat st {};
+      const bool is_socket = ::lstat(path.c_str(), &st) == 0 && S_ISSOCK(st.st_mode);
       const int probe = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
-      const bool live = ::connect(probe, sa, sizeof addr) == 0;
+      const bool refused = ::connect(probe, sa, sizeof addr) != 0 && errno == ECONNREFUSED;
       ::close(probe);
-      if (live) {
+      if (!is_socket || !refused) {
         ::close(fd);
-        throw std::runtime_error("external socket " + path +
-                                 " is in use by another running emulator");
+        throw std::runtime_error(
+            "external socket " + path +
+            (is_socket ? " is in use by another running program (another emulator?)"
+                       : " exists and is not a socket; remove it or choose another path"));
       }
       ::unlink(path.c_str());
       rc = ::bind(fd, sa, sizeof addr);
@@ -125,7 +130,9 @@ class Hub final : public ExternalHub {
   // admission by at most kHelloTimeoutMs.
   void admit(MessageChannel ch) {
     Message hello;
-    if (ch.receive(hello, kHelloTimeoutMs) != RecvStatus::kOk || hello.type() != MsgType::kHello) {
+    const RecvStatus st = ch.receive(hello, kHelloTimeoutMs);
+    if (st == RecvStatus::kClosed) return;  // a probe (e.g. another emulator checking the path)
+    if (st != RecvStatus::kOk || hello.type() != MsgType::kHello) {
       return reject(ch, "expected a hello message within " + std::to_string(kHelloTimeoutMs) +
                             " ms");
     }

@@ -103,7 +103,9 @@ RecvStatus MessageChannel::receive(Message& out, int timeout_ms) {
     return RecvStatus::kMalformed;
   }
   out.samples.resize(out.header.count);
-  std::memcpy(out.samples.data(), buffer_.data() + sizeof(MsgHeader), sample_bytes);
+  if (sample_bytes > 0) {  // data() may be null for an empty vector
+    std::memcpy(out.samples.data(), buffer_.data() + sizeof(MsgHeader), sample_bytes);
+  }
   const std::uint8_t* extra = buffer_.data() + sizeof(MsgHeader) + sample_bytes;
   out.extra.assign(extra, extra + out.header.extra_bytes);
   return RecvStatus::kOk;

@@ -80,7 +80,10 @@ class RemoteTransceiver final : public phy::Transceiver {
     report_decodes(reply->extra, handler);
   }
 
-  void reset_receiver() override { reset_pending_ = true; }
+  void reset_receiver() override {
+    reset_pending_ = true;
+    rx_busy_ = false;  // as the PHY itself reports right after a reset
+  }
 
  private:
   MsgHeader header(MsgType type) const {
@@ -98,7 +101,14 @@ class RemoteTransceiver final : public phy::Transceiver {
       if (extra.size() - at < sizeof r) return link_->drop("truncated decode record");
       std::memcpy(&r, extra.data() + at, sizeof r);
       at += sizeof r;
-      if (extra.size() - at < r.payload_bytes) return link_->drop("truncated decode payload");
+      const std::size_t symbol_bytes = std::size_t{r.symbol_count} * sizeof(cf32);
+      if (extra.size() - at < r.payload_bytes + symbol_bytes) {
+        return link_->drop("truncated decode payload");
+      }
+      symbols_.resize(r.symbol_count);
+      if (symbol_bytes > 0) {
+        std::memcpy(symbols_.data(), extra.data() + at + r.payload_bytes, symbol_bytes);
+      }
       phy::RxEvent ev;
       ev.tag = phy::FrameTag{r.src, r.dst, r.serial};
       ev.payload = std::span(extra.data() + at, r.payload_bytes);
@@ -106,7 +116,8 @@ class RemoteTransceiver final : public phy::Transceiver {
       ev.payload_valid = r.payload_valid != 0;
       ev.rssi_db = r.rssi_db;
       ev.evm_db = r.evm_db;
-      at += r.payload_bytes;
+      ev.symbols = symbols_;
+      at += r.payload_bytes + symbol_bytes;
       handler.on_rx(ev);
     }
   }
@@ -119,6 +130,7 @@ class RemoteTransceiver final : public phy::Transceiver {
   bool rx_busy_ = false;
   bool reset_pending_ = false;
   std::vector<std::uint8_t> start_;  // FrameStart + payload, sent with the next kTxRequest
+  std::vector<cf32> symbols_;        // the decode being reported (aligned copy)
 };
 
 }  // namespace

@@ -27,10 +27,15 @@ struct DecodeCollector : phy::RxHandler {
     r.rssi_db = ev.rssi_db;
     r.evm_db = ev.evm_db;
     r.payload_bytes = static_cast<std::uint32_t>(ev.payload.size());
+    r.symbol_count = static_cast<std::uint32_t>(ev.symbols.size());
     const std::size_t at = bytes.size();
-    bytes.resize(at + sizeof r + ev.payload.size());
+    bytes.resize(at + sizeof r + ev.payload.size() + ev.symbols.size_bytes());
     std::memcpy(bytes.data() + at, &r, sizeof r);
     std::copy(ev.payload.begin(), ev.payload.end(), bytes.begin() + at + sizeof r);
+    if (!ev.symbols.empty()) {
+      std::memcpy(bytes.data() + at + sizeof r + ev.payload.size(), ev.symbols.data(),
+                  ev.symbols.size_bytes());
+    }
   }
 };
 

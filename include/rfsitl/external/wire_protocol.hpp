@@ -28,7 +28,8 @@
 ///   FrameStart then the payload} -> kTx {count = samples carrying signal,
 ///   flags kFlagTxBusy while the frame continues};
 ///   kRx {count = samples, flags kFlagResetReceiver} -> kRxResult {flags
-///   kFlagRxBusy, extra = a sequence of DecodeRecord + payload}.
+///   kFlagRxBusy, extra = a sequence of DecodeRecord, payload bytes, then
+///   symbol_count cf32 constellation points}.
 ///
 /// A side that does not answer within the emulator's timeout, or sends
 /// anything unexpected, is disconnected; it may connect again with kHello.
@@ -77,7 +78,8 @@ struct FrameStart {
 };
 static_assert(sizeof(FrameStart) == 8);
 
-/// kRxResult extra: one per decode attempt, each followed by payload_bytes bytes.
+/// kRxResult extra: one per decode attempt, each followed by payload_bytes
+/// bytes and symbol_count constellation points (cf32, for monitors).
 struct DecodeRecord {
   std::uint32_t serial = 0;
   std::uint8_t src = 0;
@@ -87,8 +89,9 @@ struct DecodeRecord {
   float rssi_db = 0.0F;
   float evm_db = 0.0F;
   std::uint32_t payload_bytes = 0;
+  std::uint32_t symbol_count = 0;
 };
-static_assert(sizeof(DecodeRecord) == 20);
+static_assert(sizeof(DecodeRecord) == 24);
 
 /// Largest message either side sends or accepts (the socket's datagram limit
 /// is the kernel's default send buffer, about 208 KiB). It bounds B for
