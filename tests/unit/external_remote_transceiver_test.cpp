@@ -333,9 +333,12 @@ TEST_P(ExternalRemoteTransceiverEquivalence, BehavesExactlyLikeTheInProcessTrans
   }
   EXPECT_GT(twin.rx_busy_ticks(), 0U) << "rx_busy never became true: the comparison was vacuous";
   EXPECT_EQ(twin.remote_decodes(), twin.local_decodes());
-  // The constellations came across too (the dashboard shows them).
-  EXPECT_TRUE(std::any_of(twin.remote_decodes().begin(), twin.remote_decodes().end(),
-                          [](const Decode& d) { return !d.symbol_bits.empty(); }));
+  // The constellations came across too (the dashboard shows them); liquid's
+  // GMSK reports none.
+  if (std::string_view(GetParam().type) != "gmsk-liquid") {
+    EXPECT_TRUE(std::any_of(twin.remote_decodes().begin(), twin.remote_decodes().end(),
+                            [](const Decode& d) { return !d.symbol_bits.empty(); }));
+  }
 
   // And the decodes are the right ones: every clean frame, the wiped one not.
   for (std::size_t i = 0; i < payloads.size(); ++i) {
