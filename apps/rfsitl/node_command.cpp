@@ -24,7 +24,7 @@ struct NodeOptions {
 
 int run_node(NodeOptions& o) {
   if (o.exit_with_parent) prctl(PR_SET_PDEATHSIG, SIGTERM);
-  struct sigaction sa{};
+  struct sigaction sa {};
   sa.sa_handler = [](int) { g_stop.store(true); };
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
@@ -43,8 +43,7 @@ std::function<int()> add_node_command(CLI::App& parent) {
   auto opts = std::make_shared<NodeOptions>();
   CLI::App* cmd = parent.add_subcommand(
       "node", "Run one node's transceiver in its own process (split architecture)");
-  cmd->add_option("--socket", opts->node.socket_path, "The emulator's external socket")
-      ->required();
+  cmd->add_option("--socket", opts->node.socket_path, "The emulator's external socket")->required();
   cmd->add_option("--id", opts->id, "Node id")->required()->check(CLI::Range(1, 250));
   cmd->add_option("--connect-timeout", opts->node.connect_timeout_s,
                   "Seconds to keep trying to join")

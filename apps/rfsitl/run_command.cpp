@@ -240,8 +240,8 @@ int run(const RunOptions& o) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  io::ServerConfig sc{s.ports.bind_address, s.ports.net_base, s.ports.loc_base,
-                      s.channel.origin, {}};
+  io::ServerConfig sc{
+      s.ports.bind_address, s.ports.net_base, s.ports.loc_base, s.channel.origin, {}};
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (s.phy_of(i).type == "external") sc.external_net_ports.push_back(s.nodes[i].id);
   }
@@ -254,9 +254,8 @@ int run(const RunOptions& o) {
   std::unique_ptr<monitor::Dashboard> dashboard;
   try {
     external = external::ExternalRuntime::create(s);
-    engine = engine::make_engine(s, *servers,
-                                 external ? external->transceiver_factory()
-                                          : engine::TransceiverFactory{});
+    engine = engine::make_engine(
+        s, *servers, external ? external->transceiver_factory() : engine::TransceiverFactory{});
     if (!o.pcap_path.empty()) {
       pcap = monitor::make_pcap_trace(monitor::PcapTraceSettings{
           o.pcap_path, static_cast<std::uint64_t>(o.pcap_max_mb * 1024 * 1024), o.pcap_files,

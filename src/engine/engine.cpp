@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "event_reporter.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/channel/link_model.hpp"
@@ -16,7 +17,6 @@
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/engine/tick_clock.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
-#include "event_reporter.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 
 namespace rfsitl::engine {
@@ -153,7 +153,15 @@ class LockStepEngine final : public Engine {
     ledger_.emplace(LedgerConfig{s.channel.noise_variance, std::move(sensitivity),
                                  static_cast<SampleTime>(2 * latency + block_)},
                     counters_, [this](NodeId id) { return index_of(id); });
-    ledger_->set_outcome_callback([this](const LedgerOutcome& o) { reporter_.outcome(o, now_); });
+    ledger_->set_outcome_callback([this](const LedgerOutcome& o) {
+      // A unicast frame is delivered by the decode that receives it: report the
+      // receiver's event first, then the outcome (see handle_decodes).
+      if (defer_outcomes_) {
+        deferred_outcomes_.push_back(o);
+      } else {
+        reporter_.outcome(o, now_);
+      }
+    });
     schedule_traffic();
   }
 
@@ -173,10 +181,15 @@ class LockStepEngine final : public Engine {
     NodeCounters& c = counters_[node];
     NodeCounters::bump(c.handed_in);
     QueuedFrame item{std::move(frame), clock_.wall_now_samples()};
-    reporter_.handed_in(node, item.frame, item.not_before);
+    // In virtual time the wall clock says nothing: the event is stamped with
+    // the tick the engine is at.
+    const SampleTime at = scenario_.timing.mode == scenario::TimeMode::kRealTime
+                              ? item.not_before
+                              : status_.virtual_samples.load(std::memory_order_relaxed);
+    reporter_.handed_in(node, item.frame, at);
     if (!nodes_[node].queue->try_push(item)) {
       NodeCounters::bump(c.queue_dropped);
-      reporter_.queue_dropped(node, item.frame, item.not_before);
+      reporter_.queue_dropped(node, item.frame, at);
       return false;
     }
     return true;
@@ -347,8 +360,9 @@ class LockStepEngine final : public Engine {
         next = std::move(node.queue->try_pop()->frame);
       }
       if (next) {
+        // Sender index in the top byte; the count from 1, so that 0 never names a frame.
         const std::uint32_t serial =
-            (static_cast<std::uint32_t>(i) << 24) | (node.frames_started++ & 0xFFFFFFU);
+            (static_cast<std::uint32_t>(i) << 24) | (node.frames_started++ % 0xFFFFFFU + 1U);
         node.started_len =
             node.radio->start_frame(phy::FrameTag{next->src, next->dst, serial}, next->payload);
         node.started.emplace(serial, std::move(*next));
@@ -445,7 +459,7 @@ class LockStepEngine final : public Engine {
         node.mix_coeffs.push_back(row[n] * g);
       }
     }
-    const std::span<cf32> y(node.rx.data(), len);
+    const std::span<cf32> y(node.rx.data() + first, len);
     channel::mix(node.mix_inputs, node.mix_coeffs, y);
     if (node.noise) {
       node.noise->add_to(y);
@@ -462,16 +476,24 @@ class LockStepEngine final : public Engine {
       if (node.rx_tick == Node::RxTick::kRan) ++run_ticks_;
       if (node.rx_tick == Node::RxTick::kBlanked) ++blanked_ticks_;
       if (node.watched) {
-        if (node.rx_tick == Node::RxTick::kBlanked) std::fill(node.rx.begin(), node.rx.end(), cf32{});
+        if (node.rx_tick == Node::RxTick::kBlanked)
+          std::fill(node.rx.begin(), node.rx.end(), cf32{});
         reporter_.rx_samples(m, now_, node.rx);
       }
       for (Decoded& d : node.decoded) {
         if (!d.payload_valid) {
           NodeCounters::bump(counters_[m].rx_crc_failures);
-        } else if (ledger_->on_decoded(d.tag.serial, m)) {
-          NodeCounters::bump(counters_[m].received);
-          reporter_.received(m, d.tag, d.payload, now_);
-          sink_.deliver(m, NetFrame{d.tag.src, d.tag.dst, std::move(d.payload)});
+        } else {
+          defer_outcomes_ = true;
+          const bool for_this_node = ledger_->on_decoded(d.tag.serial, m);
+          defer_outcomes_ = false;
+          if (for_this_node) {
+            NodeCounters::bump(counters_[m].received);
+            reporter_.received(m, d.tag, d.payload, now_);
+            sink_.deliver(m, NetFrame{d.tag.src, d.tag.dst, std::move(d.payload)});
+          }
+          for (const LedgerOutcome& o : deferred_outcomes_) reporter_.outcome(o, now_);
+          deferred_outcomes_.clear();
         }
       }
       node.decoded.clear();
@@ -526,6 +548,8 @@ class LockStepEngine final : public Engine {
   std::uint64_t blanked_ticks_ = 0;
 
   EventReporter reporter_;
+  bool defer_outcomes_ = false;
+  std::vector<LedgerOutcome> deferred_outcomes_;
   mutable std::mutex snapshot_mutex_;
   std::vector<std::optional<Ecef>> positions_snapshot_;
   std::vector<float> gains_snapshot_;

@@ -6,12 +6,18 @@ namespace rfsitl::engine {
 
 const char* frame_event_name(FrameEventKind kind) {
   switch (kind) {
-    case FrameEventKind::kHandedIn: return "handed_in";
-    case FrameEventKind::kQueueDropped: return "queue_dropped";
-    case FrameEventKind::kTransmitted: return "transmitted";
-    case FrameEventKind::kReceived: return "received";
-    case FrameEventKind::kDelivered: return "delivered";
-    case FrameEventKind::kLost: return "lost";
+    case FrameEventKind::kHandedIn:
+      return "handed_in";
+    case FrameEventKind::kQueueDropped:
+      return "queue_dropped";
+    case FrameEventKind::kTransmitted:
+      return "transmitted";
+    case FrameEventKind::kReceived:
+      return "received";
+    case FrameEventKind::kDelivered:
+      return "delivered";
+    case FrameEventKind::kLost:
+      return "lost";
   }
   return "unknown";
 }
@@ -38,7 +44,8 @@ std::optional<std::size_t> EventReporter::receiver_of(std::size_t tx, NodeId dst
     // The receiver with the best link, as the ledger names a broadcast's loss.
     std::optional<std::size_t> best;
     for (std::size_t m = 0; m < channel_.size(); ++m) {
-      if (m != tx && (!best || channel_.power_gain(tx, m) > channel_.power_gain(tx, *best))) best = m;
+      if (m != tx && (!best || channel_.power_gain(tx, m) > channel_.power_gain(tx, *best)))
+        best = m;
     }
     return best;
   }
@@ -83,7 +90,7 @@ void EventReporter::transmitted(std::size_t node, std::uint32_t serial, const Ne
   e.snr_db = snr_db(node, receiver_of(node, f.dst));
   e.payload = f.payload;
   emit(e);
-  payloads_[serial] = f.payload;
+  in_flight_[serial] = InFlight{f.src, f.payload};
 }
 
 void EventReporter::received(std::size_t rx, const phy::FrameTag& tag,
@@ -100,16 +107,17 @@ void EventReporter::received(std::size_t rx, const phy::FrameTag& tag,
 
 void EventReporter::outcome(const LedgerOutcome& o, SampleTime now) {
   if (!active()) return;
-  const auto& src_id = scenario_.nodes[o.tx].id;
-  FrameEvent e = make(o.delivered ? FrameEventKind::kDelivered : FrameEventKind::kLost, o.tx,
-                      src_id, o.dst, now);
+  const auto it = in_flight_.find(o.serial);
+  const NodeId src = it != in_flight_.end() ? it->second.src : scenario_.nodes[o.tx].id;
+  FrameEvent e =
+      make(o.delivered ? FrameEventKind::kDelivered : FrameEventKind::kLost, o.tx, src, o.dst, now);
   e.serial = o.serial;
   e.length_samples = static_cast<std::uint32_t>(o.end - o.start);
   e.reason = o.reason;
   e.snr_db = snr_db(o.tx, o.rx ? o.rx : receiver_of(o.tx, o.dst));
-  if (const auto it = payloads_.find(o.serial); it != payloads_.end()) {
-    e.payload = std::move(it->second);
-    payloads_.erase(it);
+  if (it != in_flight_.end()) {
+    e.payload = std::move(it->second.payload);
+    in_flight_.erase(it);
   }
   emit(e);
 }

@@ -47,7 +47,11 @@ class EventReporter {
   const scenario::Scenario& scenario_;
   const channel::ChannelMatrix& channel_;
   std::vector<EngineObserver*> observers_;
-  std::unordered_map<std::uint32_t, std::vector<std::uint8_t>> payloads_;  // by serial, in flight
+  struct InFlight {
+    NodeId src = 0;  // as the agent wrote it
+    std::vector<std::uint8_t> payload;
+  };
+  std::unordered_map<std::uint32_t, InFlight> in_flight_;  // by serial
 };
 
 }  // namespace rfsitl::engine

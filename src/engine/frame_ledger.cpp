@@ -140,7 +140,8 @@ void FrameLedger::settle_record(Record& r, const channel::ChannelMatrix& channel
 
 void FrameLedger::report(const Record& r, bool delivered, std::optional<std::size_t> rx,
                          std::optional<LossReason> reason) const {
-  if (on_outcome_) on_outcome_(LedgerOutcome{delivered, r.serial, r.tx, r.dst, rx, reason, r.start, r.end});
+  if (on_outcome_)
+    on_outcome_(LedgerOutcome{delivered, r.serial, r.tx, r.dst, rx, reason, r.start, r.end});
 }
 
 void FrameLedger::settle(SampleTime now, const channel::ChannelMatrix& channel) {

@@ -69,8 +69,9 @@ class Supervisor final : public ChildSupervisor {
 
   int spawn(NodeId id) {
     const std::string id_text = std::to_string(id);
-    std::vector<std::string> args = {settings_.executable, "node",           "--socket",
-                                     settings_.socket_path, "--id", id_text, "--exit-with-parent"};
+    std::vector<std::string> args = {settings_.executable,  "node", "--socket",
+                                     settings_.socket_path, "--id", id_text,
+                                     "--exit-with-parent"};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -109,8 +110,9 @@ class Supervisor final : public ChildSupervisor {
         int status = 0;
         if (c.pid > 0 && ::waitpid(c.pid, &status, WNOHANG) == c.pid) {
           c.pid = 0;
-          c.restart_at = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                            std::chrono::duration<double>(settings_.restart_delay_s));
+          c.restart_at =
+              Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(settings_.restart_delay_s));
           spdlog::warn("node {}: transceiver process {}{}", id, describe_exit(status),
                        settings_.restart ? "; restarting it" : "");
           if (!settings_.restart) c.restart_at = Clock::time_point::max();
@@ -144,7 +146,8 @@ std::unique_ptr<ChildSupervisor> start_children_of(const ChildSettings& settings
 std::string current_executable() {
   std::string path(4096, '\0');
   const ssize_t n = ::readlink("/proc/self/exe", path.data(), path.size() - 1);
-  if (n <= 0) throw std::runtime_error(std::string("readlink(/proc/self/exe): ") + std::strerror(errno));
+  if (n <= 0)
+    throw std::runtime_error(std::string("readlink(/proc/self/exe): ") + std::strerror(errno));
   path.resize(static_cast<std::size_t>(n));
   return path;
 }

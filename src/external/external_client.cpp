@@ -10,9 +10,8 @@ const Welcome& ExternalClient::connect() {
   channel_ = MessageChannel::connect_to(settings_.socket_path);
   // have_tick_ survives a reconnection: the first tick after rejoining is
   // compared with the last one before the drop.
-  const nlohmann::json hello = {{"node_id", settings_.node_id},
-                                {"role", settings_.role},
-                                {"program", settings_.program}};
+  const nlohmann::json hello = {
+      {"node_id", settings_.node_id}, {"role", settings_.role}, {"program", settings_.program}};
   const std::string text = hello.dump();
   MsgHeader h;
   h.type = static_cast<std::uint16_t>(MsgType::kHello);

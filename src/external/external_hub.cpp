@@ -13,12 +13,14 @@
 #include <stdexcept>
 #include <thread>
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 namespace rfsitl::external {
 
-const char* role_name(Role role) { return role == Role::kSamples ? "samples" : "transceiver"; }
+const char* role_name(Role role) {
+  return role == Role::kSamples ? "samples" : "transceiver";
+}
 
 namespace {
 
@@ -133,8 +135,8 @@ class Hub final : public ExternalHub {
     const RecvStatus st = ch.receive(hello, kHelloTimeoutMs);
     if (st == RecvStatus::kClosed) return;  // a probe (e.g. another emulator checking the path)
     if (st != RecvStatus::kOk || hello.type() != MsgType::kHello) {
-      return reject(ch, "expected a hello message within " + std::to_string(kHelloTimeoutMs) +
-                            " ms");
+      return reject(ch,
+                    "expected a hello message within " + std::to_string(kHelloTimeoutMs) + " ms");
     }
     nlohmann::json j;
     unsigned id = 0;
@@ -161,12 +163,11 @@ class Hub final : public ExternalHub {
       return reject(ch, "node " + std::to_string(id) + " expects role '" + role_name(spec.role) +
                             "', the program connected as '" + role + "'");
     }
-    nlohmann::json welcome = {
-        {"protocol", kProtocolVersion},
-        {"node_id", id},
-        {"sample_rate_hz", settings_.sample_rate_hz},
-        {"tick_samples", settings_.tick_samples},
-        {"time_mode", settings_.virtual_time ? "virtual" : "realtime"}};
+    nlohmann::json welcome = {{"protocol", kProtocolVersion},
+                              {"node_id", id},
+                              {"sample_rate_hz", settings_.sample_rate_hz},
+                              {"tick_samples", settings_.tick_samples},
+                              {"time_mode", settings_.virtual_time ? "virtual" : "realtime"}};
     if (spec.role == Role::kTransceiver) welcome["phy"] = nlohmann::json::parse(spec.phy_json);
     const std::string text = welcome.dump();
     MsgHeader h;

@@ -14,7 +14,9 @@ namespace rfsitl::external {
 
 MessageChannel::MessageChannel(int fd) : fd_(fd) {}
 
-MessageChannel::~MessageChannel() { close(); }
+MessageChannel::~MessageChannel() {
+  close();
+}
 
 MessageChannel::MessageChannel(MessageChannel&& other) noexcept
     : fd_(std::exchange(other.fd_, -1)), buffer_(std::move(other.buffer_)) {}
@@ -80,7 +82,7 @@ RecvStatus MessageChannel::receive(Message& out, int timeout_ms) {
     const int r = ::poll(&p, 1, timeout_ms);
     if (r > 0) break;
     if (r == 0) return RecvStatus::kTimeout;
-      if (errno != EINTR) {
+    if (errno != EINTR) {
       close();
       return RecvStatus::kClosed;
     }
@@ -113,14 +115,22 @@ RecvStatus MessageChannel::receive(Message& out, int timeout_ms) {
 
 const char* message_type_name(std::uint16_t type) {
   switch (static_cast<MsgType>(type)) {
-    case MsgType::kHello: return "hello";
-    case MsgType::kWelcome: return "welcome";
-    case MsgType::kReject: return "reject";
-    case MsgType::kTick: return "tick";
-    case MsgType::kTx: return "tx";
-    case MsgType::kTxRequest: return "tx-request";
-    case MsgType::kRx: return "rx";
-    case MsgType::kRxResult: return "rx-result";
+    case MsgType::kHello:
+      return "hello";
+    case MsgType::kWelcome:
+      return "welcome";
+    case MsgType::kReject:
+      return "reject";
+    case MsgType::kTick:
+      return "tick";
+    case MsgType::kTx:
+      return "tx";
+    case MsgType::kTxRequest:
+      return "tx-request";
+    case MsgType::kRx:
+      return "rx";
+    case MsgType::kRxResult:
+      return "rx-result";
   }
   return "unknown";
 }

@@ -12,8 +12,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
@@ -72,9 +72,8 @@ class Server final : public Dashboard {
       : settings_(settings), scenario_(s), engine_(e), view_(e.node_ids()), timer_(io_) {
     for (std::size_t i = 0; i < s.nodes.size(); ++i) {
       const scenario::PhyConfig& phy = s.phy_of(i);
-      sensitivity_.push_back(phy.type == "external"
-                                 ? NAN
-                                 : phy::make_transceiver(phy)->sensitivity_snr_db());
+      sensitivity_.push_back(
+          phy.type == "external" ? NAN : phy::make_transceiver(phy)->sensitivity_snr_db());
     }
     listen();
     engine_.add_observer(view_);
@@ -144,10 +143,9 @@ class Server final : public Dashboard {
       Position p;
       if (where.contains("lat")) {
         const double alt = where.contains("alt") ? where.at("alt").get<double>()
-                           : current         ? channel::ecef_to_geodetic(*current).alt_m
-                                             : 0.0;
-        const GeodeticPosition g{where.at("lat").get<double>(), where.at("lon").get<double>(),
-                                 alt};
+                           : current             ? channel::ecef_to_geodetic(*current).alt_m
+                                                 : 0.0;
+        const GeodeticPosition g{where.at("lat").get<double>(), where.at("lon").get<double>(), alt};
         if (!(std::abs(g.lat_deg) <= 90.0 && std::abs(g.lon_deg) <= 180.0 &&
               std::abs(g.alt_m) <= kMaxCoordinateM)) {
           return "position out of range (lat within +-90, lon within +-180, |alt| <= 1e6 m)";
@@ -155,8 +153,8 @@ class Server final : public Dashboard {
         p = g;
       } else {
         const double z = where.contains("z") ? where.at("z").get<double>()
-                         : current           ? channel::ecef_to_local(*current, scenario_.channel.origin).z_m
-                                             : 0.0;
+                         : current ? channel::ecef_to_local(*current, scenario_.channel.origin).z_m
+                                   : 0.0;
         const LocalPosition l{where.at("x").get<double>(), where.at("y").get<double>(), z};
         if (!(std::abs(l.x_m) <= kMaxCoordinateM && std::abs(l.y_m) <= kMaxCoordinateM &&
               std::abs(l.z_m) <= kMaxCoordinateM)) {
@@ -245,10 +243,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     parser_.emplace();
     parser_->body_limit(kMaxRequestBytes);
     stream_.expires_after(std::chrono::seconds(30));
-    http::async_read(stream_, buffer_, *parser_,
-                     [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                       self->on_read(ec);
-                     });
+    http::async_read(
+        stream_, buffer_, *parser_,
+        [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
   }
 
   void on_read(beast::error_code ec) {
@@ -320,8 +317,9 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
       return reply(http::status::ok, "application/json", stats_json(scenario_, engine_).dump());
     }
     if (target == "/api/snapshot") {
-      return reply(http::status::ok, "application/json",
-                   snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump());
+      return reply(
+          http::status::ok, "application/json",
+          snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump());
     }
     if (target == "/metrics") {
       return reply(http::status::ok, "text/plain; version=0.0.4",
@@ -376,13 +374,12 @@ void Server::push() {
       if (db.empty()) continue;  // nothing averaged yet
       Json bins = Json::array();
       for (const float b : db) bins.push_back(std::round(b * 10.0F) / 10.0F);
-      spectrum = std::make_shared<const std::string>(
-          Json{{"type", "spectrum"},
-               {"node", engine_.node_ids()[*node]},
-               {"virtual_s", virtual_s},
-               {"sample_rate_hz", scenario_.timing.sample_rate_hz},
-               {"bins_db", bins}}
-              .dump());
+      spectrum = std::make_shared<const std::string>(Json{
+          {"type", "spectrum"},
+          {"node", engine_.node_ids()[*node]},
+          {"virtual_s", virtual_s},
+          {"sample_rate_hz", scenario_.timing.sample_rate_hz},
+          {"bins_db", bins}}.dump());
     }
     v->send(spectrum, true);
     const auto c = view_.constellation(*node);
@@ -390,19 +387,18 @@ void Server::push() {
       v->last_constellation = c->time;
       Json points = Json::array();
       for (const cf32 p : c->points) {
-        points.push_back({std::round(p.real() * 1000.0F) / 1000.0F,
-                          std::round(p.imag() * 1000.0F) / 1000.0F});
+        points.push_back(
+            {std::round(p.real() * 1000.0F) / 1000.0F, std::round(p.imag() * 1000.0F) / 1000.0F});
       }
-      v->send(std::make_shared<const std::string>(
-          Json{{"type", "constellation"},
-               {"node", engine_.node_ids()[*node]},
-               {"virtual_s", static_cast<double>(c->time) / scenario_.timing.sample_rate_hz},
-               {"src", c->src},
-               {"dst", c->dst},
-               {"serial", c->serial},
-               {"valid", c->payload_valid},
-               {"points", points}}
-              .dump()));
+      v->send(std::make_shared<const std::string>(Json{
+          {"type", "constellation"},
+          {"node", engine_.node_ids()[*node]},
+          {"virtual_s", static_cast<double>(c->time) / scenario_.timing.sample_rate_hz},
+          {"src", c->src},
+          {"dst", c->dst},
+          {"serial", c->serial},
+          {"valid", c->payload_valid},
+          {"points", points}}.dump()));
     }
   }
 }

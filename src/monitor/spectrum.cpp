@@ -22,8 +22,8 @@ void fft_in_place(std::span<cf32> x) {
       std::complex<double> w(1.0, 0.0);
       for (std::size_t k = 0; k < len / 2; ++k) {
         const cf32 u = x[i + k];
-        const cf32 v = x[i + k + len / 2] * cf32(static_cast<float>(w.real()),
-                                                  static_cast<float>(w.imag()));
+        const cf32 v =
+            x[i + k + len / 2] * cf32(static_cast<float>(w.real()), static_cast<float>(w.imag()));
         x[i + k] = u + v;
         x[i + k + len / 2] = u - v;
         w *= step;
@@ -35,8 +35,8 @@ void fft_in_place(std::span<cf32> x) {
 SpectrumAverager::SpectrumAverager(std::size_t bins)
     : bins_(bins), window_(bins), block_(bins), scratch_(bins), sum_(bins, 0.0) {
   for (std::size_t i = 0; i < bins; ++i) {
-    const double w =
-        0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(bins));
+    const double w = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) /
+                                          static_cast<double>(bins));
     window_[i] = static_cast<float>(w);
     window_power_ += window_[i] * window_[i];
   }

@@ -79,8 +79,8 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
     }
     const LocalPosition l = channel::ecef_to_local(*positions[i], s.channel.origin);
     const GeodeticPosition g = channel::ecef_to_geodetic(*positions[i]);
-    n["position"] = {{"x", round_to(l.x_m, 2)},  {"y", round_to(l.y_m, 2)},
-                     {"z", round_to(l.z_m, 2)},  {"lat", round_to(g.lat_deg, 7)},
+    n["position"] = {{"x", round_to(l.x_m, 2)},       {"y", round_to(l.y_m, 2)},
+                     {"z", round_to(l.z_m, 2)},       {"lat", round_to(g.lat_deg, 7)},
                      {"lon", round_to(g.lon_deg, 7)}, {"alt", round_to(g.alt_m, 2)}};
   }
   const std::size_t n = e.num_nodes();
@@ -96,7 +96,8 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
     }
   }
   const auto outcomes = view.link_outcomes();
-  j["links"] = {{"n", n}, {"snr_db", snr}, {"received", outcomes.received}, {"lost", outcomes.lost}};
+  j["links"] = {
+      {"n", n}, {"snr_db", snr}, {"received", outcomes.received}, {"lost", outcomes.lost}};
   return j;
 }
 

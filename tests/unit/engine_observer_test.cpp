@@ -99,7 +99,8 @@ TEST(EngineObserver, FrameEventsAgreeWithEveryNodesCounters) {
     EXPECT_EQ(count(id, FrameEventKind::kDelivered), k.delivered) << int{id};
     EXPECT_EQ(count(id, FrameEventKind::kReceived), k.received) << int{id};
     for (std::size_t r = 0; r < kNumLossReasons; ++r) {
-      EXPECT_EQ(reasons[std::make_pair(id, static_cast<LossReason>(r))], k.lost[r]) << int{id} << " " << r;
+      EXPECT_EQ(reasons[std::make_pair(id, static_cast<LossReason>(r))], k.lost[r])
+          << int{id} << " " << r;
     }
     losses += k.lost_total();
   }
@@ -135,11 +136,11 @@ TEST(EngineObserver, WatchedNodeGetsEveryTicksSamplesNoiseAtUnitPowerAndZerosWhi
   for (std::size_t k = 0; k < 30; ++k) early += c.tick_power[k];
   EXPECT_NEAR(early / 30, 1.0, 0.05);
   // While node 1 sends a whole tick its receiver is blanked: exactly zero.
-  EXPECT_TRUE(std::any_of(c.tick_power.begin(), c.tick_power.end(),
-                          [](double p) { return p == 0.0; }));
+  EXPECT_TRUE(
+      std::any_of(c.tick_power.begin(), c.tick_power.end(), [](double p) { return p == 0.0; }));
   // And while others send to it, far above the noise.
-  EXPECT_TRUE(std::any_of(c.tick_power.begin(), c.tick_power.end(),
-                          [](double p) { return p > 100.0; }));
+  EXPECT_TRUE(
+      std::any_of(c.tick_power.begin(), c.tick_power.end(), [](double p) { return p > 100.0; }));
 }
 
 TEST(EngineObserver, DecodesCarryTheirConstellation) {

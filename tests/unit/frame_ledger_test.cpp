@@ -125,7 +125,7 @@ TEST(FrameLedger, ExternalActivityOverlappingAFrameIsCollisionAndIsNeverCounted)
   // Node 3 (an external program) transmits in two adjoining ticks, then stops.
   w.ledger.on_activity(2, 0, 250);
   w.ledger.on_activity(2, 250, 500);
-  w.ledger.on_transmit(1, 0, 2, 400, 400 + kLen);  // overlaps the second tick
+  w.ledger.on_transmit(1, 0, 2, 400, 400 + kLen);       // overlaps the second tick
   w.ledger.on_transmit(2, 0, 2, 10 * kLen, 11 * kLen);  // long after: clean
   w.settle_all();
   EXPECT_EQ(w.lost(0, LossReason::kCollision), 1U);

@@ -8,9 +8,9 @@ namespace rfsitl::channel {
 namespace {
 
 TEST(GeodesyInverse, GeodeticRoundTripIsExactToMicrodegreesAndMillimetres) {
-  const std::vector<GeodeticPosition> points = {
-      {43.0008, -78.789, 120.0}, {0.0, 0.0, 0.0},     {-33.9, 151.2, 5.0},
-      {89.9999, 10.0, 1000.0},   {-89.5, -170.0, 0.0}, {60.0, 179.99, 30000.0}};
+  const std::vector<GeodeticPosition> points = {{43.0008, -78.789, 120.0}, {0.0, 0.0, 0.0},
+                                                {-33.9, 151.2, 5.0},       {89.9999, 10.0, 1000.0},
+                                                {-89.5, -170.0, 0.0},      {60.0, 179.99, 30000.0}};
   for (const auto& p : points) {
     const GeodeticPosition q = ecef_to_geodetic(geodetic_to_ecef(p));
     EXPECT_NEAR(q.lat_deg, p.lat_deg, 1e-9) << p.lat_deg;

@@ -227,7 +227,7 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
       {"nodes: []\n", "t.yaml:1: nodes: must list 1..250 nodes, got 0"},
       {"name: x\n", "t.yaml:1: nodes: required"},
       {"nodes: [{id: 1}]\nphy:\n  type: lora\n",
-       "t.yaml:3: phy.type: unknown 'lora' (known: dsss, gmsk, gmsk-liquid, ofdm)"},
+       "t.yaml:3: phy.type: unknown 'lora' (known: dsss, gmsk, gmsk-liquid, ofdm, external)"},
       {"nodes: [{id: 1}]\nchannel:\n  model: free_space\n",
        "t.yaml:3: channel.model: unknown 'free_space' (known: paper)"},
       {"nodes: [{id: 1}]\nchannel:\n  origin: {x: 1, y: 2}\n",
@@ -248,8 +248,34 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
        "  - src: 1\n    dst: 2\n    size_bytes: 65\n",
        "t.yaml:6: traffic[0].size_bytes: must be in 1..64, got 65"},
       {"nodes: [{id: 1}, {id: 2}]\ntraffic:\n  - src: 1\n", "t.yaml:3: traffic[0].dst: required"},
+      {"nodes: [{id: 1}]\nphy:\n  process: fork\n",
+       "t.yaml:3: phy.process: unknown 'fork' (known: inline, child)"},
+      {"nodes: [{id: 1, phy: {type: external}}]\ntime:\n  tick_samples: 20000\n",
+       "t.yaml:3: time.tick_samples: must be in 1..16384, got 20000"},
+      {"nodes: [{id: 1, phy: {type: external}}, {id: 2}]\ntraffic:\n  - src: 1\n    dst: 2\n",
+       "t.yaml:3: traffic[0].src: node 1 is external: its own program serves its net port and "
+       "sends its traffic"},
+      {"nodes: [{id: 1}]\nexternal:\n  reply_timeout_s: 0\n",
+       "t.yaml:3: external.reply_timeout_s: must be > 0, got 0"},
   };
   for (const auto& [yaml, expected] : cases) EXPECT_EQ(error_of(yaml), expected) << yaml;
+}
+
+TEST(ParseScenario, ExternalSectionAndProcessesAreRead) {
+  const Scenario s = parse_scenario(
+      "nodes:\n  - {id: 1, phy: {process: child}}\n  - {id: 2, phy: {type: external}}\n"
+      "  - {id: 3}\nexternal: {socket: /tmp/x.sock, reply_timeout_s: 0.5, start_timeout_s: 3, "
+      "restart_children: false}\n",
+      "t.yaml");
+  EXPECT_EQ(s.external.socket_path, "/tmp/x.sock");
+  EXPECT_EQ(s.external.reply_timeout_s, 0.5);
+  EXPECT_EQ(s.external.start_timeout_s, 3.0);
+  EXPECT_FALSE(s.external.restart_children);
+  EXPECT_TRUE(s.runs_externally(0));
+  EXPECT_TRUE(s.runs_externally(1));
+  EXPECT_FALSE(s.runs_externally(2));
+  EXPECT_EQ(s.phy_of(0).process, "child");
+  EXPECT_EQ(s.phy_of(2).process, "inline");
 }
 
 TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {

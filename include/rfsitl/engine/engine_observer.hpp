@@ -32,8 +32,8 @@ class EngineObserver {
   /// Worker thread of node `node` (several may call at once): a decode with a
   /// valid header in the tick starting at `time`; `event.symbols` is the
   /// constellation (valid during the call only).
-  virtual void on_decode(std::size_t /*node*/, SampleTime /*time*/,
-                         const phy::RxEvent& /*event*/) {}
+  virtual void on_decode(std::size_t /*node*/, SampleTime /*time*/, const phy::RxEvent& /*event*/) {
+  }
 };
 
 }  // namespace rfsitl::engine

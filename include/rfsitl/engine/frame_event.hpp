@@ -36,8 +36,8 @@ struct FrameEvent {
   /// the receiver with the best link), from the channel at the event; nullopt
   /// when there is no such receiver or no noise.
   std::optional<double> snr_db;
-  std::string phy;         ///< the sender's PHY type ("gmsk", "ofdm", ...)
-  unsigned rate_mbps = 0;  ///< ofdm only: the 802.11 rate
+  std::string phy;                    ///< the sender's PHY type ("gmsk", "ofdm", ...)
+  unsigned rate_mbps = 0;             ///< ofdm only: the 802.11 rate
   std::vector<std::uint8_t> payload;  ///< the net frame's payload (without src/dst)
 };
 

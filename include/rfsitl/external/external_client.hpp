@@ -23,10 +23,10 @@ struct Welcome {
 
 /// One tick as the samples role sees it.
 struct Tick {
-  std::uint64_t index = 0;            ///< k
-  std::uint64_t time = 0;             ///< virtual sample index of tick k's first sample
-  std::span<const cf32> rx;           ///< samples received during tick k-1 (valid until next wait)
-  bool follows_previous = true;       ///< false when ticks were missed since the last one
+  std::uint64_t index = 0;       ///< k
+  std::uint64_t time = 0;        ///< virtual sample index of tick k's first sample
+  std::span<const cf32> rx;      ///< samples received during tick k-1 (valid until next wait)
+  bool follows_previous = true;  ///< false when ticks were missed since the last one
 };
 
 class ExternalClient {

@@ -32,7 +32,6 @@ class ExternalRuntime {
   /// Starts the `rfsitl node` children (process: child). Throws std::runtime_error.
   void start_children();
 
-
   const std::string& socket_path() const { return hub_->socket_path(); }
   const ExternalHub& hub() const { return *hub_; }
   std::uint64_t child_restarts() const { return children_ ? children_->restarts() : 0; }

@@ -19,10 +19,10 @@
 namespace rfsitl::monitor {
 
 struct SigmfSettings {
-  std::string directory;               ///< created if missing
-  std::vector<NodeId> nodes;           ///< node ids to record (must exist)
-  double start_s = 0.0;                ///< virtual time the window opens
-  double duration_s = 1.0;             ///< window length (virtual seconds)
+  std::string directory;                   ///< created if missing
+  std::vector<NodeId> nodes;               ///< node ids to record (must exist)
+  double start_s = 0.0;                    ///< virtual time the window opens
+  double duration_s = 1.0;                 ///< window length (virtual seconds)
   std::uint64_t max_bytes = 200ULL << 20;  ///< per node
 };
 
