@@ -15,7 +15,10 @@ COUNT="${COUNT:-100}"
 mkdir -p "$OUT"
 rm -f "$OUT"/rtt_*.csv
 
-"$BIN" run "$SCENARIO" --stats-interval 5 --summary-json "$OUT/summary.json" >"$OUT/emulator.log" 2>&1 &
+# The run also writes a Wireshark trace of every frame event, and serves the
+# live dashboard at the URL in its banner while it runs.
+"$BIN" run "$SCENARIO" --stats-interval 5 --summary-json "$OUT/summary.json" \
+  --pcap "$OUT/demo.pcapng" >"$OUT/emulator.log" 2>&1 &
 EMU=$!
 FLY=""
 cleanup() {
@@ -49,4 +52,4 @@ sed -n '/rfsitl summary/,$p' "$OUT/emulator.log"
 # The air-time floor: an 80-byte frame plus an 8-byte ack on the default PHY.
 FLOOR_MS=$(build/release/bench/rfsitl_airtime | tail -n 1 | cut -d, -f7)
 /usr/bin/python3 scripts/plot_rtt.py "$OUT"/rtt_*.csv -o "$OUT/rtt_cdf.png" --floor-ms "$FLOOR_MS"
-echo "demo: emulator log $OUT/emulator.log, counters $OUT/summary.json"
+echo "demo: emulator log $OUT/emulator.log, counters $OUT/summary.json, Wireshark trace $OUT/demo.pcapng"
