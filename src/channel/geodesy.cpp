@@ -17,6 +17,17 @@ constexpr double kEccentricitySq = kFlattening * (2.0 - kFlattening);
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
+/// The east, north and up unit vectors of the tangent plane at `origin`, in
+/// ECEF: the columns of local_to_ecef's rotation (and rows of its inverse).
+struct EnuBasis {
+  double sl, cl, so, co;  // sin/cos of latitude and longitude
+  explicit EnuBasis(const GeodeticPosition& origin)
+      : sl(std::sin(origin.lat_deg * kDegToRad)),
+        cl(std::cos(origin.lat_deg * kDegToRad)),
+        so(std::sin(origin.lon_deg * kDegToRad)),
+        co(std::cos(origin.lon_deg * kDegToRad)) {}
+};
+
 }  // namespace
 
 Ecef geodetic_to_ecef(const GeodeticPosition& p) {
@@ -33,37 +44,25 @@ Ecef geodetic_to_ecef(const GeodeticPosition& p) {
 
 Ecef local_to_ecef(const LocalPosition& p, const GeodeticPosition& origin) {
   const Ecef o = geodetic_to_ecef(origin);
-  const double lat = origin.lat_deg * kDegToRad;
-  const double lon = origin.lon_deg * kDegToRad;
-  const double sl = std::sin(lat);
-  const double cl = std::cos(lat);
-  const double so = std::sin(lon);
-  const double co = std::cos(lon);
-  // Columns of the rotation are the east, north and up unit vectors of the
-  // origin's tangent plane expressed in ECEF.
+  const EnuBasis b(origin);
   const double east = p.x_m;
   const double north = p.y_m;
   const double up = p.z_m;
-  return Ecef{o.x - so * east - sl * co * north + cl * co * up,  //
-              o.y + co * east - sl * so * north + cl * so * up,  //
-              o.z + cl * north + sl * up};
+  return Ecef{o.x - b.so * east - b.sl * b.co * north + b.cl * b.co * up,  //
+              o.y + b.co * east - b.sl * b.so * north + b.cl * b.so * up,  //
+              o.z + b.cl * north + b.sl * up};
 }
 
 LocalPosition ecef_to_local(const Ecef& p, const GeodeticPosition& origin) {
   const Ecef o = geodetic_to_ecef(origin);
-  const double lat = origin.lat_deg * kDegToRad;
-  const double lon = origin.lon_deg * kDegToRad;
-  const double sl = std::sin(lat);
-  const double cl = std::cos(lat);
-  const double so = std::sin(lon);
-  const double co = std::cos(lon);
+  const EnuBasis b(origin);
   const double dx = p.x - o.x;
   const double dy = p.y - o.y;
   const double dz = p.z - o.z;
   // The transpose of local_to_ecef's rotation.
-  return LocalPosition{-so * dx + co * dy,  //
-                       -sl * co * dx - sl * so * dy + cl * dz,
-                       cl * co * dx + cl * so * dy + sl * dz};
+  return LocalPosition{-b.so * dx + b.co * dy,  //
+                       -b.sl * b.co * dx - b.sl * b.so * dy + b.cl * dz,
+                       b.cl * b.co * dx + b.cl * b.so * dy + b.sl * dz};
 }
 
 GeodeticPosition ecef_to_geodetic(const Ecef& p) {
@@ -83,8 +82,7 @@ GeodeticPosition ecef_to_geodetic(const Ecef& p) {
   }
   const double sl = std::sin(lat);
   const double n = kSemiMajorAxisM / std::sqrt(1.0 - kEccentricitySq * sl * sl);
-  const double alt = std::abs(std::cos(lat)) > 1e-9 ? r / std::cos(lat) - n
-                                                    : std::abs(p.z) - b;
+  const double alt = std::abs(std::cos(lat)) > 1e-9 ? r / std::cos(lat) - n : std::abs(p.z) - b;
   return GeodeticPosition{lat / kDegToRad, lon / kDegToRad, alt};
 }
 

@@ -1,8 +1,10 @@
 #include "rfsitl/monitor/pcap_trace.hpp"
 
 #include <gtest/gtest.h>
+
 #include <pcap/pcap.h>
 #include <unistd.h>
+#include "frame_event_builder.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -228,16 +230,7 @@ std::vector<std::uint8_t> mac(NodeId id) {
 
 FrameEvent event(FrameEventKind kind, SampleTime t, NodeId src, NodeId dst, NodeId node,
                  std::uint32_t serial, std::vector<std::uint8_t> payload = {1, 2, 3}) {
-  FrameEvent e;
-  e.kind = kind;
-  e.time = t;
-  e.src = src;
-  e.dst = dst;
-  e.node = node;
-  e.serial = serial;
-  e.phy = "gmsk";
-  e.payload = std::move(payload);
-  return e;
+  return engine::testing::frame_event(kind, t, src, dst, node, serial, 0, std::move(payload));
 }
 
 std::int64_t wall_s() {

@@ -1,7 +1,9 @@
 #include "rfsitl/monitor/sigmf_recorder.hpp"
 
 #include <gtest/gtest.h>
+
 #include <unistd.h>
+#include "frame_event_builder.hpp"
 
 #include <atomic>
 #include <cstring>
@@ -103,16 +105,7 @@ json read_meta(const std::string& path) {
 
 FrameEvent ev(FrameEventKind kind, SampleTime t, NodeId src, NodeId dst, NodeId node,
               std::uint32_t serial, std::uint32_t len = 0) {
-  FrameEvent e;
-  e.kind = kind;
-  e.time = t;
-  e.src = src;
-  e.dst = dst;
-  e.node = node;
-  e.serial = serial;
-  e.length_samples = len;
-  e.phy = "gmsk";
-  return e;
+  return engine::testing::frame_event(kind, t, src, dst, node, serial, len);
 }
 
 FrameEvent with_snr(FrameEvent e, double snr) {
