@@ -6,7 +6,7 @@
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run, a few minutes
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity virtual mix" by default; any subset):
+# Stages (STAGES="fig4 fig5 capacity virtual mix dashboard" by default; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
@@ -14,6 +14,8 @@
 #             scripts/bench_collect.py) and its delivery ratio
 #   virtual   simulated seconds per wall second, VIRT_NODES nodes, 1 frame/node/s
 #   mix       channel::mix complex MAC/s beside the CPU's measured peak
+#   dashboard CPU, peak memory and lag of a DASH_NODES-node run with the dashboard off,
+#             on, and with 1 and 4 WebSocket viewers (bench/dashboard_cost.py)
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MIX_SECONDS=0.2  PORT_BASE=20000
@@ -27,9 +29,10 @@ T_START=$(date +%s)
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
   D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
+  D_DASH_S=5
 else
   D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAP_S=60
-  D_VIRT_S=60 D_MIX_S=0.2
+  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20
 fi
 OUT="${OUT:-out/bench}"
 COUNT="${COUNT:-$D_COUNT}"
@@ -40,7 +43,9 @@ VIRT_NODES="${VIRT_NODES:-15}"
 VIRT_SECONDS="${VIRT_SECONDS:-$D_VIRT_S}"
 MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
 PORT_BASE="${PORT_BASE:-20000}"
-STAGES="${STAGES-fig4 fig5 capacity virtual mix}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity virtual mix dashboard}"  # empty: only the report
+DASH_NODES="${DASH_NODES:-64}"
+DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 # Architectures of the Fig. 4 CDF. Each name A needs a function fig4_start_A LOG JSON
 # that starts that architecture's emulator with 6 nodes via start_emulator (below) or
 # its own launcher that sets EMU_PID and NET_BASE the same way:
@@ -238,6 +243,13 @@ if stage mix; then
   echo "== Mixing kernel against the CPU's peak"
   "$BENCH"/rfsitl_mix_bench --seconds "$MIX_SECONDS" --csv "$OUT/mix_kernel.csv"
   mark mix
+fi
+
+if stage dashboard; then
+  echo "== Dashboard cost: N = $DASH_NODES, $DASH_SECONDS s per configuration"
+  "$PY" bench/dashboard_cost.py --bin "$BIN" --nodes "$DASH_NODES" --seconds "$DASH_SECONDS" \
+    --viewers 1 4 --csv "$OUT/dashboard_cost.csv"
+  mark dashboard
 fi
 
 # --- report -----------------------------------------------------------------------

@@ -212,6 +212,23 @@ def mix_table(out):
     return lines
 
 
+def dashboard_table(out):
+    rows = bc.read_rows(os.path.join(out, "dashboard_cost.csv"))
+    if not rows:
+        return []
+    base = bc.num(rows[0]["cpu_percent"])
+    base_mem = bc.num(rows[0]["peak_rss_mb"])
+    lines = ["| dashboard | emulator CPU % | vs off | peak RSS MB | vs off | per viewer KB/s "
+             "| messages/s | worst lag ms |", "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        cpu, mem = bc.num(r["cpu_percent"]), bc.num(r["peak_rss_mb"])
+        lines.append(f"| {r['mode']} | {fmt(cpu, 1)} | {cpu - base:+.1f} | {fmt(mem, 1)} | "
+                     f"{mem - base_mem:+.1f} | {fmt(bc.num(r['ws_kbytes_per_s_per_viewer']), 0)} | "
+                     f"{fmt(bc.num(r['ws_messages_per_s_per_viewer']), 1)} | "
+                     f"{fmt(bc.num(r['worst_lag_ms']), 1)} |")
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("out")
@@ -257,6 +274,13 @@ def main():
                  "the emulator's worst real-time lag during that run (six flowgraphs need more "
                  "than this machine's two cores to keep real time).\n")
         p += fig4_table(out, floor) + [""]
+    if dashboard_table(out):
+        p.append("## Dashboard cost (`dashboard_cost.csv`; bench/dashboard_cost.py)\n")
+        p.append("A real-time run of the default formation under ping traffic (node 1 <-> "
+                 "node N every 20 ms); each configuration a run of its own. Viewers are "
+                 "WebSocket clients that watch a node (spectrum and constellation) and read "
+                 "every snapshot.\n")
+        p += dashboard_table(out) + [""]
     if fig5_table(out):
         p.append("## RTT against N (Fig. 5 analogue; `fig5_rtt_vs_n.csv`, `.png`)\n")
         p += fig5_table(out) + [""]

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs everything rfsitl needs from Debian 12's packages. Idempotent: when
-# every package is already present it returns at once without touching apt.
+# Installs everything rfsitl needs from Debian 12's packages, then builds and
+# installs our GNU Radio blocks. Idempotent: when every package is present and
+# the blocks are up to date it returns at once without touching apt.
 set -euo pipefail
 
 PACKAGES=(
@@ -24,13 +25,17 @@ for p in "${PACKAGES[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#PACKAGES[@]} packages present"
-  exit 0
+else
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  # tshark asks whether non-root users may capture; the answer does not matter here.
+  echo "wireshark-common wireshark-common/install-setuid boolean false" |
+    $SUDO debconf-set-selections
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-echo "setup: installing ${missing[*]}"
-SUDO=""
-[ "$(id -u)" -eq 0 ] || SUDO="sudo"
-export DEBIAN_FRONTEND=noninteractive
-# tshark asks whether non-root users may capture; the answer does not matter here.
-echo "wireshark-common wireshark-common/install-setuid boolean false" | $SUDO debconf-set-selections
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# Our GNU Radio blocks (gr-rfsitl/), installed into /usr/local so that any
+# flowgraph can use them; returns at once when they are up to date.
+bash "$(dirname "$0")/build_gr.sh"

@@ -334,13 +334,14 @@ class LockStepEngine final : public Engine {
     plan_receivers();
     if (shared_noise_ && !runnable_.empty()) shared_noise_->fill(shared_noise_buf_);
     // Receivers that run are dealt round-robin to the workers: balanced whatever
-    // their indices are.
-    if (runnable_.size() > 1) {
+    // their indices are. A few receivers that only hear noise (run because
+    // skipping is off or someone watches them) cost less than waking the workers.
+    if (busy_receivers_ > 1 || runnable_.size() >= kSerialNoiseOnlyLimit) {
       pool_.run([this](std::size_t w) {
         for (std::size_t j = w; j < runnable_.size(); j += pool_.size()) rx_phase(runnable_[j]);
       });
-    } else if (runnable_.size() == 1) {
-      rx_phase(runnable_.front());
+    } else {
+      for (const std::size_t m : runnable_) rx_phase(m);
     }
     handle_decodes();
     now_ += block_;
@@ -413,6 +414,13 @@ class LockStepEngine final : public Engine {
     const Node& node = nodes_[m];
     if (blanked_whole_tick(node)) return false;
     if (!scenario_.engine.skip_idle_receivers || node.watched) return true;
+    return hears_more_than_noise(m);
+  }
+
+  /// Whether receiver m has work beyond noise this tick (the skip condition's
+  /// second half); also how the RX phase judges whether parallelism pays.
+  bool hears_more_than_noise(std::size_t m) const {
+    const Node& node = nodes_[m];
     if (node.receiver_blanked || node.radio->rx_busy()) return true;
     for (const std::size_t n : active_) {
       if (n != m && channel_.coefficient(n, m) != cf32{}) return true;
@@ -424,14 +432,16 @@ class LockStepEngine final : public Engine {
   /// that they are dealt to different workers), and why the others do not.
   void plan_receivers() {
     runnable_.clear();
+    busy_receivers_ = 0;
     for (const std::size_t m : tx_order_) {
       Node& node = nodes_[m];
-      node.watched = reporter_.active() && reporter_.wants_samples(m);
+      node.watched = reporter_.active() && reporter_.wants_samples(m, now_, block_);
       node.tick_time = now_;
       if (node.tx_samples > 0) node.receiver_blanked = true;
       if (receiver_must_run(m)) {
         node.rx_tick = Node::RxTick::kRan;
         runnable_.push_back(m);
+        if (node.radio->remote() || hears_more_than_noise(m)) ++busy_receivers_;
       } else {
         node.rx_tick = blanked_whole_tick(node) ? Node::RxTick::kBlanked : Node::RxTick::kSkipped;
       }
@@ -531,7 +541,9 @@ class LockStepEngine final : public Engine {
   std::vector<Node> nodes_;
   std::vector<std::size_t> active_;    // transmitters of the current tick
   std::vector<std::size_t> runnable_;  // receivers that run in the current tick
+  std::size_t busy_receivers_ = 0;     // of those, the ones with more than noise to do
   static constexpr std::size_t kSerialTxLimit = 2;
+  static constexpr std::size_t kSerialNoiseOnlyLimit = 8;
   std::vector<std::size_t> tx_order_;  // remote transceivers first, then the others
   std::size_t remote_count_ = 0;
   std::vector<NodeId> ids_;

@@ -122,9 +122,10 @@ void EventReporter::outcome(const LedgerOutcome& o, SampleTime now) {
   emit(e);
 }
 
-bool EventReporter::wants_samples(std::size_t node) const {
+bool EventReporter::wants_samples(std::size_t node, SampleTime tick_start,
+                                  std::size_t tick_samples) const {
   for (const EngineObserver* o : observers_) {
-    if (o->wants_samples(node)) return true;
+    if (o->wants_samples(node, tick_start, tick_samples)) return true;
   }
   return false;
 }
@@ -132,7 +133,7 @@ bool EventReporter::wants_samples(std::size_t node) const {
 void EventReporter::rx_samples(std::size_t node, SampleTime t,
                                std::span<const cf32> samples) const {
   for (EngineObserver* o : observers_) {
-    if (o->wants_samples(node)) o->on_rx_samples(node, t, samples);
+    if (o->wants_samples(node, t, samples.size())) o->on_rx_samples(node, t, samples);
   }
 }
 

@@ -31,7 +31,7 @@ class EventReporter {
   void received(std::size_t rx, const phy::FrameTag& tag, const std::vector<std::uint8_t>& payload,
                 SampleTime t) const;
   void outcome(const LedgerOutcome& o, SampleTime now);
-  bool wants_samples(std::size_t node) const;
+  bool wants_samples(std::size_t node, SampleTime tick_start, std::size_t tick_samples) const;
   void rx_samples(std::size_t node, SampleTime t, std::span<const cf32> samples) const;
 
   // Worker threads.

@@ -10,6 +10,7 @@ LiveView::LiveView(std::vector<NodeId> ids)
       watchers_(new std::atomic<int>[n_]),
       averagers_(n_),
       published_(n_),
+      next_time_(n_, -1),
       constellations_(n_) {
   links_.received.assign(n_ * n_, 0);
   links_.lost.assign(n_ * n_, 0);
@@ -40,18 +41,24 @@ LiveView::LinkOutcomes LiveView::link_outcomes() const {
   return links_;
 }
 
-bool LiveView::wants_samples(std::size_t node) const {
-  return node < n_ && watchers_[node].load(std::memory_order_relaxed) > 0;
+bool LiveView::wants_samples(std::size_t node, SampleTime tick_start,
+                             std::size_t tick_samples) const {
+  if (node >= n_ || watchers_[node].load(std::memory_order_relaxed) <= 0) return false;
+  const auto tick = static_cast<std::size_t>(tick_start) / std::max<std::size_t>(tick_samples, 1);
+  return tick % kSpectrumTickPeriod < kSpectrumTicksTaken;
 }
 
 void LiveView::watch(std::size_t node, int delta) {
   if (node < n_) watchers_[node].fetch_add(delta, std::memory_order_relaxed);
 }
 
-void LiveView::on_rx_samples(std::size_t node, SampleTime, std::span<const cf32> samples) {
+void LiveView::on_rx_samples(std::size_t node, SampleTime time, std::span<const cf32> samples) {
   std::lock_guard lock(spectra_mutex_);
   if (!averagers_[node]) averagers_[node] = std::make_unique<SpectrumAverager>(kSpectrumBins);
+  // A periodogram block must be contiguous in time: drop a partial one at a gap.
+  if (time != next_time_[node]) averagers_[node]->discard_partial_block();
   averagers_[node]->add(samples);
+  next_time_[node] = time + static_cast<SampleTime>(samples.size());
 }
 
 void LiveView::publish_spectra() {

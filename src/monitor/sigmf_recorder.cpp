@@ -131,8 +131,12 @@ class SigmfRecorderImpl final : public SigmfRecorder {
     close_all();
   }
 
-  bool wants_samples(std::size_t node) const override {
+  bool wants_samples(std::size_t node, SampleTime tick_start,
+                     std::size_t tick_samples) const override {
     if (node >= slot_of_.size() || slot_of_[node] < 0) return false;
+    // Only ticks that overlap the window: before it the receiver may skip silence.
+    const SampleTime tick_end = tick_start + static_cast<SampleTime>(tick_samples);
+    if (tick_end <= window_start_ || tick_start >= window_end_) return false;
     return !channels_[static_cast<std::size_t>(slot_of_[node])].done.load(
         std::memory_order_relaxed);
   }

@@ -25,7 +25,9 @@ class Collector final : public EngineObserver {
     std::lock_guard lock(mutex);
     events.push_back(e);
   }
-  bool wants_samples(std::size_t node) const override { return watch_ == node; }
+  bool wants_samples(std::size_t node, SampleTime, std::size_t) const override {
+    return watch_ == node;
+  }
   void on_rx_samples(std::size_t, SampleTime t, std::span<const cf32> s) override {
     tick_times.push_back(t);
     double p = 0;

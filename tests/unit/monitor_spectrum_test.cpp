@@ -62,5 +62,16 @@ TEST(Spectrum, ToneAtAQuarterOfTheSampleRateLandsThreeQuartersAcrossAfterTheShif
   EXPECT_LT(db[40], -40.0F);  // far from the tone, only window leakage
 }
 
+TEST(Spectrum, DiscardingAPartialBlockKeepsBlocksContiguous) {
+  SpectrumAverager avg(8);
+  const std::vector<cf32> ones(6, cf32(1.0F));
+  avg.add(ones);
+  avg.discard_partial_block();  // a gap: those 6 samples must not start a block
+  avg.add(ones);
+  EXPECT_EQ(avg.blocks(), 0U);
+  avg.add(ones);
+  EXPECT_EQ(avg.blocks(), 1U);
+}
+
 }  // namespace
 }  // namespace rfsitl::monitor

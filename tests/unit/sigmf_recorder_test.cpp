@@ -70,7 +70,7 @@ cf32 value_at(SampleTime k) {
 void run_ticks(SigmfRecorder& r, std::size_t node, const std::vector<SampleTime>& ticks) {
   std::vector<cf32> block(kTick);
   for (const SampleTime t : ticks) {
-    if (!r.wants_samples(node)) continue;
+    if (!r.wants_samples(node, t, kTick)) continue;
     for (std::size_t i = 0; i < kTick; ++i) block[i] = value_at(t + static_cast<SampleTime>(i));
     r.on_rx_samples(node, t, block);
   }
@@ -126,10 +126,12 @@ TEST(SigmfRecorder, RecordsTheWindowWithEveryFrameOnTheAirAnnotated) {
   s.start_s = 250e-6;  // mid-tick: virtual samples [250, 750)
   s.duration_s = 500e-6;
   auto rec = make_sigmf_recorder(s, three_nodes());
-  EXPECT_FALSE(rec->wants_samples(0));
-  EXPECT_TRUE(rec->wants_samples(1));  // node id 2 is index 1
-  EXPECT_FALSE(rec->wants_samples(2));
-  EXPECT_FALSE(rec->wants_samples(7));
+  EXPECT_FALSE(rec->wants_samples(0, 300, kTick));
+  EXPECT_TRUE(rec->wants_samples(1, 300, kTick));  // node id 2 is index 1
+  EXPECT_TRUE(rec->wants_samples(1, 200, kTick));  // the tick [200, 300) reaches into the window
+  EXPECT_FALSE(rec->wants_samples(1, 100, kTick)) << "before the window: free to skip silence";
+  EXPECT_FALSE(rec->wants_samples(2, 300, kTick));
+  EXPECT_FALSE(rec->wants_samples(7, 300, kTick));
 
   using K = FrameEventKind;
   // F: on the air before the window only.
@@ -158,7 +160,7 @@ TEST(SigmfRecorder, RecordsTheWindowWithEveryFrameOnTheAirAnnotated) {
   rec->on_frame_event(ev(K::kTransmitted, 800, 1, 2, 1, 0x00000002, 100));
 
   run_ticks(*rec, 1, ticks_until(1000));
-  EXPECT_FALSE(rec->wants_samples(1)) << "the window has passed";
+  EXPECT_FALSE(rec->wants_samples(1, 800, kTick)) << "the window has passed";
   EXPECT_EQ(rec->samples_written(2), 500U);
   EXPECT_EQ(rec->samples_written(1), 0U);
   rec->finish();
@@ -249,7 +251,7 @@ TEST(SigmfRecorder, StopsAtMaxBytesAndSaysTruncated) {
   rec->on_frame_event(ev(K::kTransmitted, 100, 1, 3, 1, 0x00000000, 50));  // cut at 120
   rec->on_frame_event(ev(K::kTransmitted, 150, 2, 3, 2, 0x01000000, 50));  // after the cut
   run_ticks(*rec, 2, {0, 100});
-  EXPECT_FALSE(rec->wants_samples(2)) << "full: no more samples wanted";
+  EXPECT_FALSE(rec->wants_samples(2, 200, kTick)) << "full: no more samples wanted";
   run_ticks(*rec, 2, {200, 300});
   EXPECT_EQ(rec->samples_written(3), 120U);
   rec->finish();
@@ -303,9 +305,9 @@ TEST(SigmfRecorder, SeveralNodesAndMetaWrittenOnDestruction) {
   s.duration_s = 200e-6;
   {
     auto rec = make_sigmf_recorder(s, three_nodes());
-    EXPECT_TRUE(rec->wants_samples(0));
-    EXPECT_FALSE(rec->wants_samples(1));
-    EXPECT_TRUE(rec->wants_samples(2));
+    EXPECT_TRUE(rec->wants_samples(0, 0, kTick));
+    EXPECT_FALSE(rec->wants_samples(1, 0, kTick));
+    EXPECT_TRUE(rec->wants_samples(2, 0, kTick));
     run_ticks(*rec, 0, ticks_until(500));
     run_ticks(*rec, 2, {0});
   }

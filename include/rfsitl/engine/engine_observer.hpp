@@ -18,16 +18,21 @@ class EngineObserver {
   /// thread-safe. Events of one frame arrive in order.
   virtual void on_frame_event(const FrameEvent& event) = 0;
 
-  /// Engine thread, once per tick, for every node whose wants_samples() is true:
+  /// Engine thread, in every tick for which wants_samples() was true:
   /// the samples its receiver got in the tick starting at `time` (B of them;
   /// zeros where its own transmission blanked it; the receiver's front-end
   /// scale, noise at unit power).
   virtual void on_rx_samples(std::size_t /*node*/, SampleTime /*time*/,
                              std::span<const cf32> /*samples*/) {}
 
-  /// Engine thread: whether node `node`'s received samples are wanted now.
-  /// Asked once per tick; cheap.
-  virtual bool wants_samples(std::size_t /*node*/) const { return false; }
+  /// Engine thread: whether node `node`'s received samples of the tick
+  /// [tick_start, tick_start + tick_samples) are wanted. Asked once per tick
+  /// and node; cheap. A node whose samples are wanted runs its receiver in that
+  /// tick even if it hears only noise, so want only the ticks you need.
+  virtual bool wants_samples(std::size_t /*node*/, SampleTime /*tick_start*/,
+                             std::size_t /*tick_samples*/) const {
+    return false;
+  }
 
   /// Worker thread of node `node` (several may call at once): a decode with a
   /// valid header in the tick starting at `time`; `event.symbols` is the

@@ -27,12 +27,17 @@ class LiveView final : public engine::EngineObserver {
  public:
   static constexpr std::size_t kSpectrumBins = 256;
   static constexpr std::size_t kMaxConstellationPoints = 512;
+  static constexpr std::size_t kSpectrumTickPeriod = 16;
+  static constexpr std::size_t kSpectrumTicksTaken = 4;
 
   explicit LiveView(std::vector<NodeId> ids);
 
   void on_frame_event(const engine::FrameEvent& e) override;
   void on_rx_samples(std::size_t node, SampleTime time, std::span<const cf32> samples) override;
-  bool wants_samples(std::size_t node) const override;
+  /// A watched node's samples in 4 consecutive ticks of every 16: plenty for a
+  /// spectrum four times a second, a quarter of the cost of every tick.
+  bool wants_samples(std::size_t node, SampleTime tick_start,
+                     std::size_t tick_samples) const override;
   void on_decode(std::size_t node, SampleTime time, const phy::RxEvent& ev) override;
 
   /// A viewer starts (+1) or stops (-1) watching node `node`'s spectrum.
@@ -64,6 +69,7 @@ class LiveView final : public engine::EngineObserver {
   mutable std::mutex spectra_mutex_;
   std::vector<std::unique_ptr<SpectrumAverager>> averagers_;
   std::vector<std::vector<float>> published_;
+  std::vector<SampleTime> next_time_;  // where each node's samples continue
   mutable std::mutex constellation_mutex_;
   std::vector<std::optional<Constellation>> constellations_;
 };

@@ -20,6 +20,9 @@ class SpectrumAverager {
   /// Appends samples; every full block of `bins` samples adds one periodogram.
   void add(std::span<const cf32> samples);
 
+  /// Forgets samples that do not yet fill a block (the stream had a gap).
+  void discard_partial_block() { filled_ = 0; }
+
   /// Blocks averaged since the last take().
   std::size_t blocks() const { return blocks_; }
 
