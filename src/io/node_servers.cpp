@@ -204,9 +204,9 @@ class AsioNodeServers final : public NodeServers {
     net_.resize(ids.size());
     loc_.resize(ids.size());
     for (std::size_t i = 0; i < ids.size(); ++i) {
-      const bool own_net_port = std::find(config_.external_net_ports.begin(),
-                                          config_.external_net_ports.end(),
-                                          ids[i]) == config_.external_net_ports.end();
+      const bool own_net_port =
+          std::find(config_.external_net_ports.begin(), config_.external_net_ports.end(), ids[i]) ==
+          config_.external_net_ports.end();
       if (own_net_port) {
         net_[i].acceptor = listen(net_port(config_, ids[i]), "net", ids[i]);
         accept_net(i);

@@ -75,14 +75,19 @@ scenario::Scenario busy_scenario() {
   return s;
 }
 
-TEST(EngineObserver, FrameEventsAgreeWithEveryNodesCounters) {
-  const scenario::Scenario s = busy_scenario();
-  NullSink sink;
+/// Runs `s` to its end with `c` observing; returns the engine for its counters.
+std::unique_ptr<Engine> run_observed(const scenario::Scenario& s, Collector& c) {
+  static NullSink sink;
   auto engine = make_engine(s, sink);
-  Collector c;
   engine->add_observer(c);
   const std::atomic<bool> stop{false};
   engine->run(stop);
+  return engine;
+}
+
+TEST(EngineObserver, FrameEventsAgreeWithEveryNodesCounters) {
+  Collector c;
+  const auto engine = run_observed(busy_scenario(), c);
   std::map<std::pair<NodeId, FrameEventKind>, std::uint64_t> kinds;
   const auto count = [&](NodeId id, FrameEventKind k) { return kinds[std::make_pair(id, k)]; };
   std::map<std::pair<NodeId, LossReason>, std::uint64_t> reasons;
@@ -121,12 +126,8 @@ TEST(EngineObserver, FrameEventsAgreeWithEveryNodesCounters) {
 TEST(EngineObserver, WatchedNodeGetsEveryTicksSamplesNoiseAtUnitPowerAndZerosWhileItSends) {
   scenario::Scenario s = busy_scenario();
   s.timing.duration_s = 0.2;
-  NullSink sink;
-  auto engine = make_engine(s, sink);
   Collector c(0);  // node 1, which also transmits
-  engine->add_observer(c);
-  const std::atomic<bool> stop{false};
-  engine->run(stop);
+  run_observed(s, c);
   const std::size_t ticks = static_cast<std::size_t>(0.2 * 1e6 / s.timing.tick_samples);
   ASSERT_EQ(c.tick_times.size(), ticks);
   for (std::size_t k = 0; k < ticks; ++k) {
@@ -146,13 +147,8 @@ TEST(EngineObserver, WatchedNodeGetsEveryTicksSamplesNoiseAtUnitPowerAndZerosWhi
 }
 
 TEST(EngineObserver, DecodesCarryTheirConstellation) {
-  const scenario::Scenario s = busy_scenario();
-  NullSink sink;
-  auto engine = make_engine(s, sink);
   Collector c;
-  engine->add_observer(c);
-  const std::atomic<bool> stop{false};
-  engine->run(stop);
+  run_observed(busy_scenario(), c);
   ASSERT_FALSE(c.decode_symbols[1].empty());  // node 2 hears node 1's frames
   for (const std::size_t n : c.decode_symbols[1]) EXPECT_GT(n, 100U);
 }

@@ -70,10 +70,10 @@ struct EngineConfig {
 
 /// Nodes whose transceiver is another process (type external or process child).
 struct ExternalConfig {
-  std::string socket_path;       ///< Unix socket; empty = /tmp/rfsitl-<net_base>.sock
-  double reply_timeout_s = 1.0;  ///< a process silent this long is dropped
+  std::string socket_path;        ///< Unix socket; empty = /tmp/rfsitl-<net_base>.sock
+  double reply_timeout_s = 1.0;   ///< a process silent this long is dropped
   double start_timeout_s = 30.0;  ///< how long the run waits for every one to join first
-  bool restart_children = true;  ///< restart an `rfsitl node` child that dies
+  bool restart_children = true;   ///< restart an `rfsitl node` child that dies
 };
 
 /// A frame injected by the emulator itself at a virtual time (batch runs, tests).
