@@ -293,8 +293,7 @@ class LockStepEngine final : public Engine {
   }
 
   void apply_positions() {
-    if (!positions_dirty_.exchange(false, std::memory_order_acq_rel) && !first_snapshot_) return;
-    {
+    if (positions_dirty_.exchange(false, std::memory_order_acq_rel)) {
       std::lock_guard lock(positions_mutex_);
       for (std::size_t i = 0; i < pending_positions_.size(); ++i) {
         if (pending_positions_[i]) {
@@ -302,9 +301,15 @@ class LockStepEngine final : public Engine {
           pending_positions_[i].reset();
         }
       }
+      geometry_stale_ = true;
     }
-    // Copies for other threads (the dashboard), made only when something moved.
-    first_snapshot_ = false;
+    if (geometry_stale_ && now_ >= next_geometry_copy_) publish_geometry();
+  }
+
+  /// Copies positions and link gains for other threads (the dashboard). An
+  /// O(N^2) copy, so at most every kGeometryCopyPeriodS of virtual time, and
+  /// only after something moved.
+  void publish_geometry() {
     const std::size_t n = nodes_.size();
     std::vector<std::optional<Ecef>> pos(n);
     std::vector<float> gains(n * n);
@@ -312,9 +317,14 @@ class LockStepEngine final : public Engine {
       pos[i] = channel_.position(i);
       for (std::size_t m = 0; m < n; ++m) gains[i * n + m] = channel_.power_gain(i, m);
     }
-    std::lock_guard lock(snapshot_mutex_);
-    positions_snapshot_ = std::move(pos);
-    gains_snapshot_ = std::move(gains);
+    {
+      std::lock_guard lock(snapshot_mutex_);
+      positions_snapshot_ = std::move(pos);
+      gains_snapshot_ = std::move(gains);
+    }
+    geometry_stale_ = false;
+    next_geometry_copy_ =
+        now_ + static_cast<SampleTime>(kGeometryCopyPeriodS * scenario_.timing.sample_rate_hz);
   }
 
   void run_tick() {
@@ -565,7 +575,9 @@ class LockStepEngine final : public Engine {
   mutable std::mutex snapshot_mutex_;
   std::vector<std::optional<Ecef>> positions_snapshot_;
   std::vector<float> gains_snapshot_;
-  bool first_snapshot_ = true;
+  bool geometry_stale_ = true;  // positions changed since the last copy (or none yet)
+  SampleTime next_geometry_copy_ = 0;
+  static constexpr double kGeometryCopyPeriodS = 0.02;
 
   std::mutex positions_mutex_;
   std::vector<std::optional<std::optional<Ecef>>> pending_positions_;
