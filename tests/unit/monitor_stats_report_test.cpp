@@ -5,7 +5,6 @@
 #include <atomic>
 #include <cmath>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -47,14 +46,20 @@ TEST(StatsReport, PrometheusTextDeclaresEveryFamilyAndMatchesTheCounters) {
   std::istringstream in(text);
   std::set<std::string> declared;
   std::map<std::string, double> values;
-  const std::regex sample(R"(^([a-z_]+)(\{[^}]*\})? (\S+)$)");
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("# TYPE ", 0) == 0) declared.insert(line.substr(7, line.find(' ', 7) - 7));
     if (line.empty() || line[0] == '#') continue;
-    std::smatch m;
-    ASSERT_TRUE(std::regex_match(line, m, sample)) << line;
-    EXPECT_TRUE(declared.count(m[1])) << "no TYPE before " << line;
-    values[m[1].str() + m[2].str()] = std::stod(m[3]);
+    // name{labels} value, or name value (std::regex trips GCC 12's -Wmaybe-uninitialized).
+    const auto space = line.rfind(' ');
+    ASSERT_NE(space, std::string::npos) << line;
+    const std::string series = line.substr(0, space);
+    const std::string name = series.substr(0, series.find('{'));
+    ASSERT_FALSE(name.empty()) << line;
+    EXPECT_TRUE(name.find_first_not_of("abcdefghijklmnopqrstuvwxyz_") == std::string::npos) << line;
+    EXPECT_TRUE(declared.count(name)) << "no TYPE before " << line;
+    std::size_t used = 0;
+    values[series] = std::stod(line.substr(space + 1), &used);
+    EXPECT_EQ(used, line.size() - space - 1) << line;
   }
   for (std::size_t i = 0; i < e->num_nodes(); ++i) {
     const auto c = e->counters(i).snapshot();
