@@ -1,0 +1,159 @@
+// validate(): every range and cross-field rule of a Scenario, whether it came
+// from a file or from defaults plus command-line overrides.
+#include <arpa/inet.h>
+
+#include <algorithm>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "rfsitl/phy/dsss/codes.hpp"
+#include "rfsitl/phy/phy_registry.hpp"
+#include "scenario_rules.hpp"
+
+namespace rfsitl::scenario::detail {
+namespace {
+
+void check_position(const Context& c, const Position& p, const std::string& key) {
+  if (const auto* g = std::get_if<GeodeticPosition>(&p)) {
+    c.check(g->lat_deg, key + ".lat", kLatitude);
+    c.check(g->lon_deg, key + ".lon", kLongitude);
+    c.check(g->alt_m, key + ".alt", kAltitude);
+  } else {
+    const auto& l = std::get<LocalPosition>(p);
+    c.check(l.x_m, key + ".x", kFinite);
+    c.check(l.y_m, key + ".y", kFinite);
+    c.check(l.z_m, key + ".z", kAltitude);
+  }
+}
+
+bool valid_bind_address(const std::string& a) {
+  in6_addr buf{};  // large enough for either family
+  return a == "localhost" || inet_pton(AF_INET, a.c_str(), &buf) == 1 ||
+         inet_pton(AF_INET6, a.c_str(), &buf) == 1;
+}
+
+using Listed = std::array<bool, 256>;  // indexed by NodeId
+
+void check_ports(const PortConfig& p, const Context& c, const Listed& listed, unsigned max_id) {
+  if (!valid_bind_address(p.bind_address)) {
+    c.fail("ports.bind",
+           "expected an IPv4/IPv6 address or localhost, got '" + p.bind_address + "'");
+  }
+  for (const auto& [key, base] :
+       {std::pair{"ports.net_base", p.net_base}, {"ports.loc_base", p.loc_base}}) {
+    if (const unsigned top = base + 10U * max_id; top > 65535) {
+      c.fail(key, "port of node " + std::to_string(max_id) + " would be " + std::to_string(top) +
+                      " (> 65535); must be <= " + std::to_string(65535 - 10 * max_id));
+    }
+  }
+  // Node a's net port is node b's location port when net_base + 10a == loc_base + 10b.
+  for (unsigned a = 0; a < listed.size(); ++a) {
+    const unsigned port = p.net_base + 10 * a;
+    if (!listed[a] || port < p.loc_base || (port - p.loc_base) % 10 != 0) continue;
+    if (const unsigned b = (port - p.loc_base) / 10; b < listed.size() && listed[b]) {
+      c.fail("ports.loc_base", "location port of node " + std::to_string(b) +
+                                   " and net port of node " + std::to_string(a) + " are both " +
+                                   std::to_string(port));
+    }
+  }
+}
+
+void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
+  for (std::size_t i = 0; i < s.traffic.size(); ++i) {
+    const TrafficItem& t = s.traffic[i];
+    const std::string key = "traffic[" + std::to_string(i) + "]";
+    c.check(t.at_s, key + ".at_s", kNonNegative);
+    if (!listed[t.src]) c.fail(key + ".src", "node " + std::to_string(t.src) + " is not in nodes");
+    if (t.dst != kBroadcastId && !listed[t.dst]) {
+      c.fail(key + ".dst", "node " + std::to_string(t.dst) + " is not in nodes (255 = broadcast)");
+    }
+    if (t.dst == t.src) c.fail(key + ".dst", "equals src (a half-duplex node cannot hear itself)");
+    const auto src = std::find_if(s.nodes.begin(), s.nodes.end(),
+                                  [&](const NodeConfig& n) { return n.id == t.src; });
+    const PhyConfig& src_phy = src->phy ? *src->phy : s.phy;
+    if (src_phy.type == "external") {
+      c.fail(key + ".src", "node " + std::to_string(t.src) +
+                               " is external: its own program serves its net port and sends "
+                               "its traffic");
+    }
+    c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, src_phy.max_payload_bytes});
+    c.check(t.repeat, key + ".repeat", kRepeat);
+    c.check(t.interval_s, key + ".interval_s", kNonNegative);
+  }
+}
+
+void check_phy(const Context& c, const PhyConfig& p, const std::string& key) {
+  std::vector<std::string> types = phy::known_phy_types();
+  types.push_back("external");
+  c.check_name(p.type, key + ".type", types);
+  c.check_name(p.process, key + ".process", kProcesses);
+  c.check(p.samples_per_symbol, key + ".samples_per_symbol", kSamplesPerSymbol);
+  c.check(p.bandwidth_time, key + ".bandwidth_time", kBandwidthTime);
+  c.check(p.filter_delay_symbols, key + ".filter_delay_symbols", kFilterDelay);
+  c.check(p.max_payload_bytes, key + ".max_payload_bytes", kPayloadBytes);
+  c.check(p.tx_queue_frames, key + ".tx_queue_frames", kTxQueue);
+  c.check_name(std::to_string(p.rate_mbps), key + ".rate_mbps", kOfdmRates);
+  if (p.type == "ofdm") {
+    c.check(p.max_payload_bytes, key + ".max_payload_bytes", kOfdmPayloadBytes);
+  }
+  c.check_name(p.modulation, key + ".modulation", kDsssModulations);
+  c.check(p.samples_per_chip, key + ".samples_per_chip", kSamplesPerChip);
+  try {
+    (void)phy::dsss::code_by_name(p.code);
+  } catch (const std::invalid_argument& e) {
+    c.fail(key + ".code", e.what());
+  }
+}
+
+}  // namespace
+
+void validate(const Scenario& s, const Context& c) {
+  if (s.nodes.empty() || s.nodes.size() > kMaxNodeId) {
+    c.fail("nodes", "must list 1..250 nodes, got " + std::to_string(s.nodes.size()));
+  }
+  Listed listed{};
+  std::array<std::size_t, 256> first{};  // index of the first node with each id
+  unsigned max_id = 0;
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const std::string key = "nodes[" + std::to_string(i) + "]";
+    const NodeId id = s.nodes[i].id;
+    c.check(id, key + ".id", kNodeIdLimit);
+    if (listed[id]) {
+      const std::string other = "nodes[" + std::to_string(first[id]) + "].id";
+      const int other_line = c.line(other);
+      c.fail(key + ".id", "duplicate id " + std::to_string(id) + " (also " + other +
+                              (other_line > 0 ? ", line " + std::to_string(other_line) : "") + ")");
+    }
+    listed[id] = true;
+    first[id] = i;
+    max_id = std::max<unsigned>(max_id, id);
+    if (const auto& p = s.nodes[i].initial_position) check_position(c, *p, key + ".position");
+  }
+  check_phy(c, s.phy, "phy");
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (const auto& p = s.nodes[i].phy) check_phy(c, *p, "nodes[" + std::to_string(i) + "].phy");
+  }
+  c.check_name(s.channel.model, "channel.model", kChannelModels);
+  c.check(s.channel.path_loss_exponent, "channel.path_loss_exponent", kNonNegative);
+  c.check(s.channel.noise_variance, "channel.noise_variance", kNonNegative);
+  check_position(c, s.channel.origin, "channel.origin");
+  c.check(s.timing.speed, "time.speed", kPositive);
+  c.check(s.timing.sample_rate_hz, "time.sample_rate_hz", kPositive);
+  c.check(s.timing.tick_samples, "time.tick_samples", kTickSamples);
+  c.check(s.timing.duration_s, "time.duration_s", kNonNegative);
+  c.check(s.engine.threads, "engine.threads", kThreads);
+  c.check(s.engine.stats_interval_s, "engine.stats_interval_s", kNonNegative);
+  c.check(s.external.reply_timeout_s, "external.reply_timeout_s", kPositive);
+  c.check(s.external.start_timeout_s, "external.start_timeout_s", kNonNegative);
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (s.runs_externally(i)) {
+      c.check(s.timing.tick_samples, "time.tick_samples", kExternalTickSamples);
+      break;
+    }
+  }
+  check_ports(s.ports, c, listed, max_id);
+  check_traffic(s, c, listed);
+}
+
+}  // namespace rfsitl::scenario::detail
