@@ -112,7 +112,10 @@ class Server final : public Dashboard {
                   {"spectrum_bins", LiveView::kSpectrumBins},
                   {"node_ids", engine_.node_ids()}};
     v->send(std::make_shared<const std::string>(hello.dump()));
-    if (latest_) v->send(latest_);
+    // A new viewer needs the link matrix, which later snapshots carry only
+    // when something moved.
+    v->send(std::make_shared<const std::string>(
+        snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump()));
   }
 
   void remove_viewer(ViewerSession* v) {
@@ -228,6 +231,7 @@ class Server final : public Dashboard {
   std::vector<std::weak_ptr<ViewerSession>> viewers_;
   std::atomic<std::size_t> viewer_count_{0};
   std::shared_ptr<const std::string> latest_;
+  std::vector<float> last_gains_;  // as of the latest snapshot pushed
   std::thread thread_;
 };
 
@@ -358,8 +362,12 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
 void Server::push() {
   if (viewers_.empty()) return;
   view_.publish_spectra();
+  // The SNR matrix (most of a big swarm's snapshot) only when the geometry changed.
+  auto gains = engine_.link_gains();
+  const bool moved = gains != last_gains_;
+  last_gains_ = std::move(gains);
   latest_ = std::make_shared<const std::string>(
-      snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump());
+      snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control, moved).dump());
   std::map<std::size_t, std::shared_ptr<const std::string>> spectra;
   const double virtual_s = engine_.status().virtual_s;
   for (const auto& w : viewers_) {

@@ -62,7 +62,8 @@ nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e) {
 }
 
 nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, const LiveView& view,
-                             const std::vector<double>& sensitivity_db, bool control) {
+                             const std::vector<double>& sensitivity_db, bool control,
+                             bool with_snr) {
   nlohmann::json j = stats_json(s, e);
   j["type"] = "snapshot";
   j["control"] = control;
@@ -84,6 +85,9 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
                      {"lon", round_to(g.lon_deg, 7)}, {"alt", round_to(g.alt_m, 2)}};
   }
   const std::size_t n = e.num_nodes();
+  const auto outcomes = view.link_outcomes();
+  j["links"] = {{"n", n}, {"received", outcomes.received}, {"lost", outcomes.lost}};
+  if (!with_snr) return j;
   const auto gains = e.link_gains();
   const double noise = s.channel.noise_variance;
   nlohmann::json snr = nlohmann::json::array();
@@ -95,9 +99,7 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
       snr.push_back(round_to(10.0 * std::log10(gains[k] / noise), 1));
     }
   }
-  const auto outcomes = view.link_outcomes();
-  j["links"] = {
-      {"n", n}, {"snr_db", snr}, {"received", outcomes.received}, {"lost", outcomes.lost}};
+  j["links"]["snr_db"] = std::move(snr);
   return j;
 }
 

@@ -51,9 +51,9 @@ function onHello(m, text) {
   setNodes(m.node_ids || []);
 }
 
-function onSnapshot(s, text) {
+function onSnapshot(s) {
   setNodes(s.nodes.map((n) => n.id));
-  recordSnapshot(s, text);
+  recordSnapshot(s);
   if (typeof s.control === 'boolean') setControl(s.control);
   showStatus(s);
   updateSnrRange(s);

@@ -23,8 +23,8 @@ export function setNodeIds(ids) {
   return true;
 }
 
-/** Makes `s` (with `text`, its JSON) the current snapshot; call after setNodeIds. */
-export function recordSnapshot(s, text) {
+/** Makes `s` the current snapshot; call after setNodeIds. */
+export function recordSnapshot(s) {
   const prev = state.snap;
   if (prev && s.wall_s < prev.wall_s) {  // a new emulator run behind the same address
     state.history = [];
@@ -32,8 +32,11 @@ export function recordSnapshot(s, text) {
     state.activeRx.fill(0);
     state.activeLost.fill(0);
   }
+  // The server re-sends the SNR matrix only when something moved.
+  if (s.links && !s.links.snr_db && prev && prev.links && prev.links.n === s.links.n) {
+    s.links.snr_db = prev.links.snr_db;
+  }
   state.snap = s;
-  state.snapText = text;
 
   // A counter that grew since the previous snapshot marks its link active now.
   const now = performance.now();

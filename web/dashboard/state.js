@@ -12,7 +12,6 @@ export const state = {
   hello: null,
   helloText: null,    // the message as received, so the test hook hands out fresh copies
   snap: null,
-  snapText: null,
   ids: [],            // node ids in `nodes` order
   indexOf: new Map(), // id -> index
   control: null,      // null until known

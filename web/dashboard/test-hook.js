@@ -6,8 +6,9 @@ import { matrixCellCentre } from './matrix.js';
 import { ACTIVE_MS, state } from './state.js';
 
 const api = {
-  /** A copy of the last snapshot message (null before the first). */
-  get snapshot() { return state.snapText ? JSON.parse(state.snapText) : null; },
+  /** A copy of the last snapshot as the page holds it (null before the first): the
+   *  message, with the SNR matrix carried over when the server left it out. */
+  get snapshot() { return state.snap ? structuredClone(state.snap) : null; },
   /** A copy of the hello message. */
   get hello() { return state.helloText ? JSON.parse(state.helloText) : null; },
   get connection() { return state.conn; },

@@ -17,10 +17,12 @@ namespace rfsitl::monitor {
 nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e);
 
 /// stats_json plus positions (local ENU metres and WGS84), the link matrix as
-/// SNR in dB (null: no link), each receiver's sensitivity, and the decoded
-/// and lost frames per link (the dashboard's snapshot message).
+/// SNR in dB (null: no link; left out when `with_snr` is false, for viewers
+/// that have it and nothing moved), each receiver's sensitivity, and the
+/// decoded and lost frames per link (the dashboard's snapshot message).
 nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, const LiveView& view,
-                             const std::vector<double>& sensitivity_db, bool control);
+                             const std::vector<double>& sensitivity_db, bool control,
+                             bool with_snr = true);
 
 /// Prometheus text exposition format 0.0.4.
 std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e);
