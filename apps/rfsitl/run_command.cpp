@@ -198,6 +198,24 @@ void print_summary(engine::Engine& e) {
   std::fflush(stdout);
 }
 
+/// One line per external node: how often its process joined, was dropped and
+/// timed out, so that a flaky flowgraph shows at a glance.
+void print_external_summary(const external::ExternalRuntime& ext) {
+  const nlohmann::json j = ext.summary();
+  std::printf("external transceivers (%s): %llu connection(s) refused, %llu child restart(s)\n",
+              j["socket"].get<std::string>().c_str(),
+              static_cast<unsigned long long>(j["rejected_connections"].get<std::uint64_t>()),
+              static_cast<unsigned long long>(j["child_restarts"].get<std::uint64_t>()));
+  for (const auto& n : j["nodes"]) {
+    std::printf("  node %3u %-11s joins %llu, drops %llu, timeouts %llu\n", n["id"].get<unsigned>(),
+                n["role"].get<std::string>().c_str(),
+                static_cast<unsigned long long>(n["joins"].get<std::uint64_t>()),
+                static_cast<unsigned long long>(n["drops"].get<std::uint64_t>()),
+                static_cast<unsigned long long>(n["timeouts"].get<std::uint64_t>()));
+  }
+  std::fflush(stdout);
+}
+
 /// Lock-step needs everyone at the start: waits (Ctrl-C aware) until every
 /// external node has joined or external.start_timeout_s passed. Nodes that did
 /// not join start silent and may join later. False when interrupted.
@@ -334,6 +352,7 @@ int run(const RunOptions& o) {
                 static_cast<unsigned long long>(pcap->events_written()));
   }
   print_summary(*engine);
+  if (external) print_external_summary(*external);
   if (!o.summary_json.empty()) {
     std::ofstream out(o.summary_json);
     nlohmann::json j = monitor::stats_json(s, *engine);
