@@ -101,24 +101,38 @@ stop_emulator() {
 trap 'stop_gnuradio; stop_emulator' EXIT
 trap 'stop_gnuradio; stop_emulator; exit 130' INT TERM
 
-# start_emulator LOG JSON ARGS...: starts `rfsitl run ARGS` on a fresh port range and
-# waits for "rfsitl: ready"; tries three ranges (a port may be taken by someone else).
+# launch_emulator LOG JSON ARGS...: starts `rfsitl run ARGS` in the background on the
+# next port range (PORT_BASE + 1000 k); sets EMU_PID and NET_BASE.
+launch_emulator() {
+  local log="$1" json="$2"
+  shift 2
+  local base=$((PORT_BASE + 1000 * (RUN_INDEX % 40)))
+  RUN_INDEX=$((RUN_INDEX + 1))
+  NET_BASE=$((base + 3))
+  "$BIN" run "$@" --net-base "$NET_BASE" --loc-base $((base + 6)) --bind 127.0.0.1 \
+    --stats-interval 1 --summary-json "$json" >"$log" 2>&1 &
+  EMU_PID=$!
+}
+
+# wait_for_line LOG TEXT: 0 once the emulator printed TEXT, 1 if it exited or 60 s passed.
+wait_for_line() {
+  for _ in $(seq 600); do
+    grep -q "$2" "$1" 2>/dev/null && return 0
+    kill -0 "$EMU_PID" 2>/dev/null || return 1
+    sleep 0.1
+  done
+  return 1
+}
+
+# start_emulator LOG JSON ARGS...: launches and waits for "rfsitl: ready"; tries three
+# port ranges (a port may be taken by someone else).
 start_emulator() {
   local log="$1" json="$2"
   shift 2
   for _attempt in 1 2 3; do
-    local base=$((PORT_BASE + 1000 * (RUN_INDEX % 40)))
-    RUN_INDEX=$((RUN_INDEX + 1))
-    NET_BASE=$((base + 3))
-    "$BIN" run "$@" --net-base "$NET_BASE" --loc-base $((base + 6)) --bind 127.0.0.1 \
-      --stats-interval 1 --summary-json "$json" >"$log" 2>&1 &
-    EMU_PID=$!
-    for _ in $(seq 600); do
-      grep -q "rfsitl: ready" "$log" 2>/dev/null && return 0
-      kill -0 "$EMU_PID" 2>/dev/null || break
-      sleep 0.1
-    done
-    echo "bench: emulator did not get ready on ports $base+ (tail of $log):" >&2
+    launch_emulator "$log" "$json" "$@"
+    wait_for_line "$log" "rfsitl: ready" && return 0
+    echo "bench: emulator did not get ready on net base $NET_BASE (tail of $log):" >&2
     tail -3 "$log" >&2 || true
     stop_emulator
   done
@@ -144,23 +158,15 @@ fig4_start_gnuradio() {
     echo "bench: gnuradio curve skipped: the OOT module is not installed (bash scripts/build_gr.sh)"
     return 1
   fi
-  local log="$1" json="$2" base=$((PORT_BASE + 1000 * (RUN_INDEX % 40)))
-  RUN_INDEX=$((RUN_INDEX + 1))
-  NET_BASE=$((base + 3))
-  "$BIN" run --nodes 6 --phy external --net-base "$NET_BASE" --loc-base $((base + 6)) \
-    --bind 127.0.0.1 --stats-interval 1 --summary-json "$json" >"$log" 2>&1 &
-  EMU_PID=$!
-  for _ in $(seq 100); do grep -q "waiting up to" "$log" 2>/dev/null && break; sleep 0.1; done
+  local log="$1" json="$2"
+  launch_emulator "$log" "$json" --nodes 6 --phy external
+  wait_for_line "$log" "waiting up to" || { tail -3 "$log" >&2; return 1; }
   for id in 1 2 3 4 5 6; do
     $PY examples/gnuradio/gmsk_node.py --socket "/tmp/rfsitl-$NET_BASE.sock" --id "$id" \
       --net-base "$NET_BASE" >"${log%.log}_gr$id.log" 2>&1 &
     GR_PIDS+=($!)
   done
-  for _ in $(seq 600); do
-    grep -q "rfsitl: ready" "$log" 2>/dev/null && return 0
-    kill -0 "$EMU_PID" 2>/dev/null || break
-    sleep 0.1
-  done
+  wait_for_line "$log" "rfsitl: ready" && return 0
   echo "bench: GNU Radio nodes did not all join (tail of $log):" >&2
   tail -3 "$log" >&2 || true
   return 1

@@ -5,6 +5,7 @@
 #include <pcap/pcap.h>
 #include <unistd.h>
 #include "frame_event_builder.hpp"
+#include "temp_dir.hpp"
 
 #include <atomic>
 #include <chrono>
@@ -26,23 +27,10 @@ using engine::FrameEvent;
 using engine::FrameEventKind;
 using engine::LossReason;
 
-class TempDir {
+/// A temp directory for this file's tests.
+class TempDir : public rfsitl::testing::TempDir {
  public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("rfsitl-pcap-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
+  TempDir() : rfsitl::testing::TempDir("rfsitl-pcap-test") {}
 };
 
 // --- our own pcapng reader: blocks, options, comments -----------------------
@@ -242,7 +230,7 @@ std::int64_t wall_s() {
 TEST(PcapTrace, EveryEventIsOneRadiotap80211PacketThatLibpcapReads) {
   TempDir dir;
   PcapTraceSettings s;
-  s.path = dir.file("sub/run.pcapng");  // the parent directory is created
+  s.path = dir.path("sub/run.pcapng");  // the parent directory is created
   s.sample_rate_hz = 2e6;
   s.noise_db = -100.0;
 
@@ -343,7 +331,7 @@ TEST(PcapTrace, EveryEventIsOneRadiotap80211PacketThatLibpcapReads) {
 TEST(PcapTrace, SignalAndNoiseAreClampedToInt8) {
   TempDir dir;
   PcapTraceSettings s;
-  s.path = dir.file("clamp.pcapng");
+  s.path = dir.path("clamp.pcapng");
   s.noise_db = -300.0;  // no noise: 1e-30
   auto trace = make_pcap_trace(s);
   auto e = event(FrameEventKind::kTransmitted, 0, 1, 2, 1, 1);
@@ -375,7 +363,7 @@ std::vector<std::uint32_t> serials_in(const std::string& path) {
 TEST(PcapTrace, RotationKeepsAtMostMaxFilesWithTheNewestEvents) {
   TempDir dir;
   PcapTraceSettings s;
-  s.path = dir.file("rot.pcapng");
+  s.path = dir.path("rot.pcapng");
   s.max_file_bytes = 2000;
   s.max_files = 3;
   {
@@ -434,7 +422,7 @@ TEST(PcapTrace, RotationKeepsAtMostMaxFilesWithTheNewestEvents) {
 TEST(PcapTrace, SingleFileRotationStartsOver) {
   TempDir dir;
   PcapTraceSettings s;
-  s.path = dir.file("one.pcapng");
+  s.path = dir.path("one.pcapng");
   s.max_file_bytes = 1000;
   s.max_files = 1;
   auto trace = make_pcap_trace(s);
@@ -454,7 +442,7 @@ TEST(PcapTrace, SingleFileRotationStartsOver) {
 TEST(PcapTrace, ConcurrentWritersLoseNothing) {
   TempDir dir;
   PcapTraceSettings s;
-  s.path = dir.file("mt.pcapng");
+  s.path = dir.path("mt.pcapng");
   auto trace = make_pcap_trace(s);
   constexpr std::uint32_t kPerThread = 3000;
   std::atomic<bool> go{false};
@@ -508,7 +496,7 @@ TEST(PcapTrace, ConcurrentWritersLoseNothing) {
 
 TEST(PcapTrace, UnwritablePathThrowsNamingIt) {
   TempDir dir;
-  const std::string blocker = dir.file("not-a-dir");
+  const std::string blocker = dir.path("not-a-dir");
   std::ofstream(blocker) << "x";
   PcapTraceSettings s;
   s.path = blocker + "/run.pcapng";

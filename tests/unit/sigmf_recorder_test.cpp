@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 #include "frame_event_builder.hpp"
+#include "temp_dir.hpp"
 
 #include <atomic>
 #include <cstring>
@@ -26,22 +27,10 @@ using nlohmann::json;
 
 constexpr std::size_t kTick = 100;
 
-class TempDir {
+/// A temp directory for this file's tests (not created: the recorder makes it).
+class TempDir : public rfsitl::testing::TempDir {
  public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("rfsitl-sigmf-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    fs::remove_all(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string path(const std::string& sub = "") const { return (path_ / sub).string(); }
-
- private:
-  fs::path path_;
+  TempDir() : rfsitl::testing::TempDir("rfsitl-sigmf-test", false) {}
 };
 
 /// Three nodes, ids 1, 2, 3 at indices 0, 1, 2; fs = 1 MHz, B = 100.
