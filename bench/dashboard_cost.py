@@ -101,7 +101,7 @@ class Viewer(threading.Thread):
 
 
 def measure(args, mode, viewers, index):
-    base = 20000 + 1000 * (index % 30) + random.randrange(0, 900, 10)
+    base = args.port_base + 1000 * (index % 30) + random.randrange(0, 900, 10)
     net_base = base + 3
     cmd = [args.bin, "run", "--nodes", str(args.nodes), "--net-base", str(net_base),
            "--loc-base", str(base + 6), "--stats-interval", "0", "--dashboard-port", "0"]
@@ -163,6 +163,9 @@ def measure(args, mode, viewers, index):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bin", default="build/release/apps/rfsitl")
+    ap.add_argument("--port-base", type=int, default=int(os.environ.get("PORT_BASE", "20000")),
+                    help="first of the port ranges used (base + 1000 k); default $PORT_BASE "
+                         "or 20000")
     ap.add_argument("--nodes", type=int, default=64)
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--warmup", type=float, default=3.0)

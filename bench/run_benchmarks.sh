@@ -2,8 +2,8 @@
 # The benchmark suite: set up, build (release), measure, and write CSV files, PNG
 # plots and summary.md into out/bench/ (the paper's numbers beside ours).
 #
-#   bash bench/run_benchmarks.sh            # full run, about 15 minutes on 2 cores
-#   QUICK=1 bash bench/run_benchmarks.sh    # smoke run, a few minutes
+#   bash bench/run_benchmarks.sh            # full run, about 7 minutes on 2 cores
+#   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
 # Stages (STAGES="fig4 fig5 capacity virtual mix dashboard" by default; any subset):
@@ -110,7 +110,7 @@ launch_emulator() {
   RUN_INDEX=$((RUN_INDEX + 1))
   NET_BASE=$((base + 3))
   "$BIN" run "$@" --net-base "$NET_BASE" --loc-base $((base + 6)) --bind 127.0.0.1 \
-    --stats-interval 1 --summary-json "$json" >"$log" 2>&1 &
+    --dashboard-port "$((base + 1))" --stats-interval 1 --summary-json "$json" >"$log" 2>&1 &
   EMU_PID=$!
 }
 
@@ -253,7 +253,7 @@ fi
 
 if stage dashboard; then
   echo "== Dashboard cost: N = $DASH_NODES, $DASH_SECONDS s per configuration"
-  "$PY" bench/dashboard_cost.py --bin "$BIN" --nodes "$DASH_NODES" --seconds "$DASH_SECONDS" \
+  "$PY" bench/dashboard_cost.py --bin "$BIN" --port-base "$PORT_BASE" --nodes "$DASH_NODES" --seconds "$DASH_SECONDS" \
     --viewers 1 4 --csv "$OUT/dashboard_cost.csv"
   mark dashboard
 fi

@@ -3,6 +3,10 @@
 # slow circle while `rfsitl ping` (the paper's COM manager) measures round-trip
 # times of 80-byte GMSK packets between three pairs of them. Results: the RTT
 # lines below, out/demo/rtt_cdf.png, the emulator's per-node summary.
+#
+#   bash scripts/demo.sh [SCENARIO]
+# Environment: COUNT=100 pings per pair; NET_BASE=15763, LOC_BASE=15766 and
+# DASHBOARD_PORT move the ports (for a second run on the same machine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -12,12 +16,18 @@ BIN=build/release/apps/rfsitl
 OUT=out/demo
 SCENARIO="${1:-scenarios/six_uav.yaml}"
 COUNT="${COUNT:-100}"
+NET_BASE="${NET_BASE:-15763}"
+LOC_BASE="${LOC_BASE:-15766}"
+# The dashboard takes 15700, or any free port when that one is taken.
+DASH_ARGS=()
+[ -n "${DASHBOARD_PORT:-}" ] && DASH_ARGS=(--dashboard-port "$DASHBOARD_PORT")
 mkdir -p "$OUT"
 rm -f "$OUT"/rtt_*.csv
 
 # The run also writes a Wireshark trace of every frame event, and serves the
 # live dashboard at the URL in its banner while it runs.
 "$BIN" run "$SCENARIO" --stats-interval 5 --summary-json "$OUT/summary.json" \
+  --net-base "$NET_BASE" --loc-base "$LOC_BASE" "${DASH_ARGS[@]}" \
   --pcap "$OUT/demo.pcapng" >"$OUT/emulator.log" 2>&1 &
 EMU=$!
 FLY=""
@@ -34,14 +44,15 @@ done
 sed -n '1,/rfsitl: ready/p' "$OUT/emulator.log"
 NODES=$(grep -c "^  node" "$OUT/emulator.log")
 
-/usr/bin/python3 scripts/fly_swarm.py --nodes "$NODES" &
+/usr/bin/python3 scripts/fly_swarm.py --nodes "$NODES" --loc-base "$LOC_BASE" &
 FLY=$!
 echo
 echo "== $NODES UAVs flying; $COUNT pings of 80 bytes per pair (one at a time, as in the paper)"
 for pair in "1 2" "3 $NODES" "$((NODES - 1)) 1"; do
   set -- $pair
   printf "node %s -> node %s: " "$1" "$2"
-  "$BIN" ping --src "$1" --dst "$2" --count "$COUNT" --size 80 --quiet --csv "$OUT/rtt_${1}_${2}.csv"
+  "$BIN" ping --src "$1" --dst "$2" --count "$COUNT" --size 80 --quiet --net-base "$NET_BASE" \
+    --csv "$OUT/rtt_${1}_${2}.csv"
 done
 kill "$FLY" 2>/dev/null || true
 FLY=""

@@ -16,13 +16,15 @@ EARTH_RADIUS_M = 6371000.0
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--nodes", type=int, default=6)
-    ap.add_argument("--loc-base", type=int, default=15766)
-    ap.add_argument("--host", default="127.0.0.1")
-    ap.add_argument("--radius", type=float, default=8.0, help="formation radius, metres")
-    ap.add_argument("--period", type=float, default=60.0, help="seconds per revolution")
-    ap.add_argument("--rate", type=float, default=10.0, help="position updates per second")
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--nodes", type=int, default=6, help="UAVs 1..N to fly (default 6)")
+    ap.add_argument("--loc-base", type=int, default=15766,
+                    help="location port base of the emulator: node n is base + 10 n")
+    ap.add_argument("--host", default="127.0.0.1", help="emulator address")
+    ap.add_argument("--radius", type=float, default=8.0, help="formation radius, metres (8)")
+    ap.add_argument("--period", type=float, default=60.0, help="seconds per revolution (60)")
+    ap.add_argument("--rate", type=float, default=10.0, help="position updates per second (10)")
     ap.add_argument("--seconds", type=float, default=0.0, help="0: until interrupted")
     args = ap.parse_args()
 

@@ -13,6 +13,13 @@ int main(int argc, char** argv) {
   auto run = rfsitl::app::add_run_command(app);
   auto ping = rfsitl::app::add_ping_command(app);
   auto node = rfsitl::app::add_node_command(app);
+  // CLI11 would call an unknown command a missing one ("A subcommand is required").
+  if (argc > 1 && argv[1][0] != '-' &&
+      app.get_subcommands([&](CLI::App* c) { return c->check_name(argv[1]); }).empty()) {
+    std::cerr << "rfsitl: unknown command '" << argv[1]
+              << "' (commands: run, ping, node; see rfsitl --help)\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

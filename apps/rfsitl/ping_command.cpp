@@ -1,7 +1,8 @@
 /// `rfsitl ping`: the paper's COM manager. It plays the agents of nodes A and B
 /// on their net ports: A sends S-byte packets to B one at a time, B answers each
 /// with a short acknowledgement carrying the sequence number, and A records the
-/// round-trip time.
+/// round-trip time. Exit status: 0 when at least one acknowledgement came back,
+/// 1 when none did (or the connection failed), 2 when it refused to start.
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -25,6 +26,7 @@
 #include "commands.hpp"
 #include "rfsitl/common/percentile.hpp"
 #include "rfsitl/common/probe_payload.hpp"
+#include "rfsitl/io/agent_control.hpp"
 #include "rfsitl/io/net_framing.hpp"
 
 namespace rfsitl::app {
@@ -35,6 +37,9 @@ using Clock = std::chrono::steady_clock;
 constexpr ProbeMagic kPingMagic{'R', 'F', 'P', '1'};
 constexpr ProbeMagic kAckMagic{'R', 'F', 'A', '1'};
 constexpr std::size_t kMaxPayload = 65535;
+// rfsitl's own net ports answer at once; a program that owns its port (a GNU
+// Radio node) never does, and ping then goes on without the checks.
+constexpr double kStatusTimeoutS = 2.0;
 
 struct PingOptions {
   unsigned src = 1;
@@ -48,6 +53,7 @@ struct PingOptions {
   std::uint16_t net_base = 15763;
   std::string csv;
   bool quiet = false;
+  bool take_over = false;
 };
 
 /// A TCP connection to one net port, with the framing parser for its stream.
@@ -86,6 +92,29 @@ class AgentLink {
     }
   }
 
+  /// Asks the emulator about this port (agent_control.hpp); nullopt when
+  /// nothing answers within `timeout_s` (a port an external program serves).
+  std::optional<io::PortStatus> status(double timeout_s) {
+    send(io::make_control_frame(io::kStatusRequest));
+    const std::optional<NetFrame> reply = await_control(timeout_s);
+    if (!reply) return std::nullopt;
+    const auto st = io::parse_status_reply(io::control_text(*reply));
+    if (!st) {
+      throw std::runtime_error("the emulator's net port answered the status request with '" +
+                               std::string(io::control_text(*reply)) + "'");
+    }
+    return st;
+  }
+
+  /// Makes this connection the port's agent, replacing any other.
+  void take(double timeout_s) {
+    send(io::make_control_frame(io::kTakeRequest));
+    if (!await_control(timeout_s)) {
+      throw std::runtime_error("no answer to the take-over request within " +
+                               std::to_string(timeout_s) + " s");
+    }
+  }
+
   /// Reads what is available and returns the frames completed by it.
   std::vector<NetFrame> receive() {
     std::uint8_t buf[8192];
@@ -99,6 +128,20 @@ class AgentLink {
   }
 
  private:
+  std::optional<NetFrame> await_control(double timeout_s) {
+    const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+    while (Clock::now() < deadline) {
+      pollfd fds{fd_, POLLIN, 0};
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+      if (::poll(&fds, 1, static_cast<int>(std::max<long>(1, left.count()))) <= 0) continue;
+      for (NetFrame& f : receive()) {
+        if (io::is_control_frame(f)) return std::move(f);
+      }
+    }
+    return std::nullopt;
+  }
+
   static int try_connect(const std::string& host, std::uint16_t port, std::string& error) {
     addrinfo hints{};
     hints.ai_socktype = SOCK_STREAM;
@@ -157,6 +200,45 @@ std::optional<double> ping_once(AgentLink& a, AgentLink& b, const PingOptions& o
   return std::nullopt;
 }
 
+/// Checks both ports before using them: refuses when an agent is connected
+/// (unless --take-over) or when --size is beyond what a port accepts, then
+/// takes both. Returns 0 or the exit code.
+int claim_ports(AgentLink& a, AgentLink& b, const PingOptions& o) {
+  const std::pair<AgentLink*, unsigned> ports[] = {{&a, o.src}, {&b, o.dst}};
+  bool checked[2] = {false, false};
+  for (std::size_t k = 0; k < 2; ++k) {
+    const auto& [link, id] = ports[k];
+    const std::optional<io::PortStatus> answer = link->status(kStatusTimeoutS);
+    if (!answer) {
+      std::fprintf(stderr,
+                   "rfsitl ping: node %u's net port does not answer control frames (a port "
+                   "an external program serves?): not checked\n",
+                   id);
+      continue;
+    }
+    checked[k] = true;
+    const io::PortStatus& st = *answer;
+    if (st.agent_connected && !o.take_over) {
+      std::fprintf(stderr,
+                   "rfsitl ping: node %u's net port has an agent connected; ping would replace "
+                   "it (the agent's connection is closed). Stop the agent, or pass --take-over\n",
+                   id);
+      return 2;
+    }
+    const std::size_t need = id == o.src ? o.size : 8;
+    if (need > st.max_payload) {
+      std::fprintf(stderr,
+                   "rfsitl ping: --size %zu is more than node %u accepts (phy.max_payload_bytes "
+                   "= %zu)\n",
+                   need, id, st.max_payload);
+      return 2;
+    }
+  }
+  if (checked[0]) a.take(o.connect_timeout_s);
+  if (checked[1]) b.take(o.connect_timeout_s);
+  return 0;
+}
+
 int run_ping(const PingOptions& o) {
   if (o.src == o.dst) {
     std::fprintf(stderr, "rfsitl ping: --src and --dst must differ\n");
@@ -166,6 +248,7 @@ int run_ping(const PingOptions& o) {
   try {
     AgentLink a(o.host, static_cast<std::uint16_t>(o.net_base + 10 * o.src), o.connect_timeout_s);
     AgentLink b(o.host, static_cast<std::uint16_t>(o.net_base + 10 * o.dst), o.connect_timeout_s);
+    if (const int rc = claim_ports(a, b, o); rc != 0) return rc;
     for (std::uint32_t seq = 0; seq < o.count; ++seq) {
       const auto rtt = ping_once(a, b, o, seq);
       rtts.push_back(rtt);
@@ -209,6 +292,10 @@ int run_ping(const PingOptions& o) {
   std::printf("rtt_ms mean=%.3f p10=%.3f p50=%.3f p90=%.3f lost=%zu/%u\n", mean,
               percentile(ok, 0.1), percentile(ok, 0.5), percentile(ok, 0.9),
               rtts.size() - ok.size(), o.count);
+  if (ok.empty()) {
+    std::fprintf(stderr, "rfsitl ping: no acknowledgement came back (%u sent)\n", o.count);
+    return 1;
+  }
   return 0;
 }
 
@@ -244,6 +331,8 @@ std::function<int()> add_ping_command(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--csv", opts->csv, "Write every packet's RTT to this CSV file");
   cmd->add_flag("--quiet,-q", opts->quiet, "Print only the summary line");
+  cmd->add_flag("--take-over", opts->take_over,
+                "Replace agents connected to the two net ports (default: refuse)");
   return [opts] { return run_ping(*opts); };
 }
 

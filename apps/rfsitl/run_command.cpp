@@ -3,10 +3,13 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <array>
 #include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -20,6 +23,7 @@
 #include "commands.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/external/external_runtime.hpp"
+#include "rfsitl/io/bind_address.hpp"
 #include "rfsitl/io/node_servers.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/pcap_trace.hpp"
@@ -31,25 +35,62 @@
 namespace rfsitl::app {
 namespace {
 
+/// A flag that sets a scenario setting. Its value goes through the scenario
+/// file's own reader and rules (scenario::apply_setting), so the command line
+/// and the file accept exactly the same values, and errors name the flag.
+struct SettingFlag {
+  const char* flag;
+  const char* key;  ///< dotted scenario key
+  const char* help;
+  std::string (*default_of)(const scenario::Scenario&);  ///< for --help
+};
+
+std::string number(double v) {
+  std::array<char, 32> buf{};
+  return {buf.data(), std::to_chars(buf.data(), buf.data() + buf.size(), v).ptr};
+}
+
+using S = const scenario::Scenario&;
+const SettingFlag kSettingFlags[] = {
+    {"--net-base", "ports.net_base", "Net port base: node n listens on base + 10 n",
+     [](S d) { return number(d.ports.net_base); }},
+    {"--loc-base", "ports.loc_base", "Location port base: base + 10 n",
+     [](S d) { return number(d.ports.loc_base); }},
+    {"--bind", "ports.bind", "Address or host name every server listens on (e.g. localhost)",
+     [](S d) { return d.ports.bind_address; }},
+    {"--mode", "time.mode", "realtime or virtual (as fast as possible, deterministic)",
+     [](S) { return std::string("realtime"); }},
+    {"--speed", "time.speed", "Real-time speed factor: virtual seconds per wall second",
+     [](S d) { return number(d.timing.speed); }},
+    {"--duration", "time.duration_s", "Virtual seconds to run; 0: until Ctrl-C",
+     [](S d) { return number(d.timing.duration_s); }},
+    {"--sample-rate", "time.sample_rate_hz", "Sample rate fs in Hz",
+     [](S d) { return number(d.timing.sample_rate_hz); }},
+    {"--tick", "time.tick_samples", "Samples per lock-step tick (B)",
+     [](S d) { return number(d.timing.tick_samples); }},
+    {"--seed", "seed", "Seed of the noise sources", [](S d) { return number(double(d.seed)); }},
+    {"--threads", "engine.threads", "Worker threads; 0: one per core",
+     [](S d) { return number(d.engine.threads); }},
+    {"--noise-db", "channel.noise_power_db", "Noise power 10 log10(sigma^2) in dB, -300..300",
+     [](S d) { return number(10.0 * std::log10(d.channel.noise_variance)); }},
+    {"--stats-interval", "engine.stats_interval_s", "Wall seconds between stats lines; 0: off",
+     [](S d) { return number(d.engine.stats_interval_s); }},
+    {"--phy", "phy.type",
+     "Transceiver of every node without its own phy: gmsk, gmsk-liquid, ofdm, dsss, external",
+     [](S d) { return d.phy.type; }},
+    {"--external-socket", "external.socket", "Unix socket for external transceivers",
+     [](S) { return std::string("/tmp/rfsitl-<net-base>.sock"); }},
+    {"--external-timeout", "external.reply_timeout_s",
+     "Seconds an external transceiver may take to answer before it is dropped",
+     [](S d) { return number(d.external.reply_timeout_s); }},
+};
+constexpr std::size_t kNumSettingFlags = std::size(kSettingFlags);
+
 struct RunOptions {
   std::string scenario_path;
   std::optional<std::size_t> nodes;
-  std::optional<std::uint16_t> net_base;
-  std::optional<std::uint16_t> loc_base;
-  std::optional<std::string> bind;
-  std::optional<std::string> mode;
-  std::optional<double> speed;
-  std::optional<double> duration_s;
-  std::optional<double> sample_rate_hz;
-  std::optional<std::uint32_t> tick_samples;
-  std::optional<std::uint64_t> seed;
-  std::optional<unsigned> threads;
-  std::optional<double> noise_db;
-  std::optional<double> stats_interval_s;
+  std::array<std::optional<std::string>, kNumSettingFlags> settings;  ///< as typed
   std::optional<std::string> arch;
-  std::optional<std::string> phy_type;
-  std::optional<std::string> external_socket;
-  std::optional<double> external_timeout_s;
   std::string pcap_path;
   double pcap_max_mb = 100.0;
   unsigned pcap_files = 5;
@@ -68,30 +109,27 @@ struct RunOptions {
 
 scenario::Scenario build_scenario(const RunOptions& o) {
   scenario::Scenario s;
-  if (!o.scenario_path.empty()) s = scenario::load_scenario_file(o.scenario_path);
-  if (o.net_base) s.ports.net_base = *o.net_base;
-  if (o.loc_base) s.ports.loc_base = *o.loc_base;
-  if (o.bind) s.ports.bind_address = *o.bind;
-  if (o.mode) {
-    s.timing.mode =
-        *o.mode == "virtual" ? scenario::TimeMode::kVirtual : scenario::TimeMode::kRealTime;
-  }
-  if (o.speed) s.timing.speed = *o.speed;
-  if (o.duration_s) s.timing.duration_s = *o.duration_s;
-  if (o.sample_rate_hz) s.timing.sample_rate_hz = *o.sample_rate_hz;
-  if (o.tick_samples) s.timing.tick_samples = *o.tick_samples;
-  if (o.seed) s.seed = *o.seed;
-  if (o.threads) s.engine.threads = *o.threads;
-  if (o.noise_db) s.channel.noise_variance = std::pow(10.0, *o.noise_db / 10.0);
-  if (o.stats_interval_s) s.engine.stats_interval_s = *o.stats_interval_s;
-  if (o.no_skip) s.engine.skip_idle_receivers = false;
-  if (o.shared_noise) s.channel.shared_noise = true;
-  if (o.nodes || s.nodes.empty()) {
+  if (!o.scenario_path.empty()) {
+    if (o.nodes) {
+      throw scenario::ScenarioError(
+          "--nodes builds the default formation and cannot be combined with a scenario file (" +
+          o.scenario_path + " lists its own nodes)");
+    }
+    s = scenario::load_scenario_file(o.scenario_path);
+  } else {
+    // Placed now so that every flag is checked against the nodes it will
+    // apply to; placed again below, once the channel flags are known.
     s.nodes = scenario::default_formation(o.nodes.value_or(6), s.channel);
-    s.traffic.clear();  // it named the file's nodes
-    if (o.scenario_path.empty()) s.name = "default-formation";
+    s.name = "default-formation";
   }
-  if (o.phy_type) s.phy.type = *o.phy_type;  // nodes without a phy of their own
+  for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
+    if (const auto& v = o.settings[i]) {
+      scenario::apply_setting(s, kSettingFlags[i].key, *v, std::string(kSettingFlags[i].flag));
+    }
+  }
+  if (o.no_skip) scenario::apply_setting(s, "engine.skip_idle_receivers", "false", "--no-skip");
+  if (o.shared_noise) scenario::apply_setting(s, "channel.shared_noise", "true", "--shared-noise");
+  if (o.scenario_path.empty()) s.nodes = scenario::default_formation(s.nodes.size(), s.channel);
   if (o.arch) {
     // Every built-in transceiver moves: threads = in the emulator, split = one
     // `rfsitl node` process each. External programs stay what they are.
@@ -101,8 +139,6 @@ scenario::Scenario build_scenario(const RunOptions& o) {
       if (n.phy) n.phy->process = process;
     }
   }
-  if (o.external_socket) s.external.socket_path = *o.external_socket;
-  if (o.external_timeout_s) s.external.reply_timeout_s = *o.external_timeout_s;
   scenario::validate_scenario(s);
   return s;
 }
@@ -182,18 +218,40 @@ void print_summary(engine::Engine& e) {
       "\nrfsitl summary: virtual %.3f s in %.3f s wall, worst real-time lag %.2f ms, "
       "late ticks %llu\n",
       st.virtual_s, st.wall_s, 1e3 * st.max_lag_s, static_cast<unsigned long long>(st.late_ticks));
-  std::printf("%5s %8s %8s %9s %8s %8s %8s %8s %8s %8s %8s %8s %8s %7s %7s\n", "node", "in", "tx",
-              "delivered", "lost:sen", "lost:col", "lost:hd", "lost:dec", "lost:dst", "q-drop",
-              "pending", "received", "crc-fail", "loc-ok", "loc-bad");
+  using Snapshot = engine::NodeCountersSnapshot;
+  struct Column {
+    const char* title;
+    std::uint64_t (*value)(const Snapshot&);
+  };
+  static constexpr Column kColumns[] = {
+      {"in", [](const Snapshot& c) { return c.handed_in; }},
+      {"tx", [](const Snapshot& c) { return c.transmitted; }},
+      {"delivered", [](const Snapshot& c) { return c.delivered; }},
+      {"lost:sen", [](const Snapshot& c) { return c.lost[0]; }},
+      {"lost:col", [](const Snapshot& c) { return c.lost[1]; }},
+      {"lost:hd", [](const Snapshot& c) { return c.lost[2]; }},
+      {"lost:dec", [](const Snapshot& c) { return c.lost[3]; }},
+      {"lost:dst", [](const Snapshot& c) { return c.lost[4]; }},
+      {"q-drop", [](const Snapshot& c) { return c.queue_dropped; }},
+      {"pending", [](const Snapshot& c) { return c.pending(); }},
+      {"received", [](const Snapshot& c) { return c.received; }},
+      {"crc-fail", [](const Snapshot& c) { return c.rx_crc_failures; }},
+      {"to-agent-drop", [](const Snapshot& c) { return c.to_agent_dropped; }},
+      {"frame-err", [](const Snapshot& c) { return c.framing_errors; }},
+      {"loc-ok", [](const Snapshot& c) { return c.location_updates; }},
+      {"loc-bad", [](const Snapshot& c) { return c.location_errors; }},
+  };
+  std::printf("%5s", "node");
+  for (const Column& col : kColumns) std::printf(" %8s", col.title);
+  std::printf("\n");
   for (std::size_t i = 0; i < e.num_nodes(); ++i) {
-    const auto c = e.counters(i).snapshot();
-    const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
-    std::printf(
-        "%5u %8llu %8llu %9llu %8llu %8llu %8llu %8llu %8llu %8llu %8llu %8llu %8llu "
-        "%7llu %7llu\n",
-        e.node_ids()[i], u(c.handed_in), u(c.transmitted), u(c.delivered), u(c.lost[0]),
-        u(c.lost[1]), u(c.lost[2]), u(c.lost[3]), u(c.lost[4]), u(c.queue_dropped), u(c.pending()),
-        u(c.received), u(c.rx_crc_failures), u(c.location_updates), u(c.location_errors));
+    const Snapshot c = e.counters(i).snapshot();
+    std::printf("%5u", e.node_ids()[i]);
+    for (const Column& col : kColumns) {
+      std::printf(" %*llu", static_cast<int>(std::max<std::size_t>(8, std::strlen(col.title))),
+                  static_cast<unsigned long long>(col.value(c)));
+    }
+    std::printf("\n");
   }
   std::fflush(stdout);
 }
@@ -250,6 +308,24 @@ int run(const RunOptions& o) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
     return 2;
   }
+  std::string bind_address;
+  try {
+    bind_address = io::resolve_bind_address(s.ports.bind_address);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rfsitl run: ports.bind: %s\n", e.what());
+    return 2;
+  }
+  // Output files are opened now: a path that cannot be written fails before
+  // the run, not after it with the results lost.
+  std::ofstream summary_out;
+  if (!o.summary_json.empty()) {
+    summary_out.open(o.summary_json);
+    if (!summary_out) {
+      std::fprintf(stderr, "rfsitl run: --summary-json %s: cannot write: %s\n",
+                   o.summary_json.c_str(), std::strerror(errno));
+      return 2;
+    }
+  }
   // Signals are taken synchronously by this thread only; block them before any
   // other thread exists so that every thread inherits the mask.
   sigset_t signals;
@@ -258,8 +334,7 @@ int run(const RunOptions& o) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  io::ServerConfig sc{
-      s.ports.bind_address, s.ports.net_base, s.ports.loc_base, s.channel.origin, {}};
+  io::ServerConfig sc{bind_address, s.ports.net_base, s.ports.loc_base, s.channel.origin, {}};
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (s.phy_of(i).type == "external") sc.external_net_ports.push_back(s.nodes[i].id);
   }
@@ -296,7 +371,7 @@ int run(const RunOptions& o) {
     servers->start(*engine);
     if (!o.no_dashboard) {
       monitor::DashboardSettings ds;
-      ds.bind_address = s.ports.bind_address;
+      ds.bind_address = bind_address;
       ds.port = o.dashboard_port.value_or(ds.port);
       ds.fall_back_to_any_port = !o.dashboard_port;
       ds.control = o.dashboard_control;
@@ -317,8 +392,18 @@ int run(const RunOptions& o) {
     print_summary(*engine);
     return 1;
   }
-  std::printf("rfsitl: ready, listening on %zu net ports and %zu location ports (Ctrl-C to stop)\n",
-              s.nodes.size(), s.nodes.size());
+  const std::size_t own_net_ports = s.nodes.size() - sc.external_net_ports.size();
+  std::printf("rfsitl: ready, listening on %zu net port(s) and %zu location port(s); %s\n",
+              own_net_ports, s.nodes.size(),
+              s.timing.duration_s > 0 ? "stops after the duration or at Ctrl-C" : "Ctrl-C to stop");
+  if (s.timing.mode == scenario::TimeMode::kVirtual) {
+    // Virtual time does not wait for the wall clock, so live agents cannot keep
+    // up with it: their frames enter at whatever tick the engine has reached.
+    std::printf(
+        "rfsitl: virtual time runs as fast as the machine allows, not in step with the agents "
+        "on the ports; the scenario's traffic: is what makes a run reproducible (%zu item(s))\n",
+        s.traffic.size());
+  }
   std::fflush(stdout);
 
   std::atomic<bool> stop{false};
@@ -353,12 +438,12 @@ int run(const RunOptions& o) {
   }
   print_summary(*engine);
   if (external) print_external_summary(*external);
-  if (!o.summary_json.empty()) {
-    std::ofstream out(o.summary_json);
+  if (summary_out.is_open()) {
     nlohmann::json j = monitor::stats_json(s, *engine);
     if (external) j["external"] = external->summary();
-    out << j.dump(2) << "\n";
-    if (!out) {
+    summary_out << j.dump(2) << "\n";
+    summary_out.flush();
+    if (!summary_out) {
       std::fprintf(stderr, "rfsitl run: cannot write %s\n", o.summary_json.c_str());
       return 1;
     }
@@ -372,59 +457,44 @@ std::function<int()> add_run_command(CLI::App& parent) {
   auto opts = std::make_shared<RunOptions>();
   CLI::App* cmd =
       parent.add_subcommand("run", "Run the emulator: one net port and one location port per node");
-  cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/")
-      ->check(CLI::ExistingFile);
+  // No CLI::ExistingFile: the loader's message names the file and the reason.
+  cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/");
   cmd->add_option(
          "--nodes", opts->nodes,
          "Nodes in the default formation where every link decodes (1..250; 6 without a scenario)")
       ->check(CLI::Range(1, 250));
-  cmd->add_option("--net-base", opts->net_base, "Net port base: node n listens on base + 10 n");
-  cmd->add_option("--loc-base", opts->loc_base, "Location port base: base + 10 n");
-  cmd->add_option("--bind", opts->bind, "Address to listen on (default 127.0.0.1)");
-  cmd->add_option("--mode", opts->mode, "realtime or virtual")
-      ->check(CLI::IsMember({"realtime", "virtual"}));
-  cmd->add_option("--speed", opts->speed, "Real-time speed factor (virtual s per wall s)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--duration", opts->duration_s, "Virtual seconds to run (0: until Ctrl-C)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--sample-rate", opts->sample_rate_hz, "Sample rate fs in Hz")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--tick", opts->tick_samples, "Samples per lock-step tick (B)")
-      ->check(CLI::Range(1U, 1U << 20));
-  cmd->add_option("--seed", opts->seed, "Seed of the noise sources");
-  cmd->add_option("--threads", opts->threads, "Worker threads (0: one per core)");
-  cmd->add_option("--noise-db", opts->noise_db, "Noise power 10 log10(sigma^2) in dB");
-  cmd->add_option("--stats-interval", opts->stats_interval_s,
-                  "Seconds between stats lines (0: off)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--phy", opts->phy_type,
-                  "Transceiver type of every node without its own phy (gmsk, gmsk-liquid, ofdm, "
-                  "dsss, external)");
+  const scenario::Scenario defaults;
+  for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
+    cmd->add_option(kSettingFlags[i].flag, opts->settings[i], kSettingFlags[i].help)
+        ->default_str(kSettingFlags[i].default_of(defaults));
+  }
   cmd->add_option("--arch", opts->arch,
                   "Where built-in transceivers run: threads (in the emulator) or split (one "
                   "`rfsitl node` process each)")
       ->check(CLI::IsMember({"threads", "split"}));
-  cmd->add_option("--external-socket", opts->external_socket,
-                  "Unix socket for external transceivers (default /tmp/rfsitl-<net-base>.sock)");
-  cmd->add_option("--external-timeout", opts->external_timeout_s,
-                  "Seconds an external transceiver may take to answer before it is dropped")
-      ->check(CLI::PositiveNumber);
   cmd->add_option("--pcap", opts->pcap_path,
                   "Write every frame event to this pcapng file (Wireshark; docs/traces.md)");
-  cmd->add_option("--pcap-max-mb", opts->pcap_max_mb, "Rotate the pcap file beyond this size")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--pcap-max-mb", opts->pcap_max_mb, "Rotate the pcap file beyond this size (MiB)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--pcap-files", opts->pcap_files, "pcap files kept when rotating")
-      ->check(CLI::Range(1U, 1000U));
+      ->check(CLI::Range(1U, 1000U))
+      ->capture_default_str();
   cmd->add_option("--sigmf", opts->sigmf_dir,
                   "Record received I/Q in SigMF into this directory (docs/traces.md)");
-  cmd->add_option("--sigmf-nodes", opts->sigmf_nodes, "Node ids to record (default: all)")
+  cmd->add_option("--sigmf-nodes", opts->sigmf_nodes,
+                  "Node ids to record, e.g. 2,5 (default: all; a recorded receiver runs every "
+                  "tick of the window, so fewer nodes cost less)")
       ->delimiter(',');
   cmd->add_option("--sigmf-start", opts->sigmf_start_s, "Virtual second the recording starts")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("--sigmf-duration", opts->sigmf_duration_s, "Virtual seconds to record")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--sigmf-max-mb", opts->sigmf_max_mb, "Largest recording per node")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--sigmf-max-mb", opts->sigmf_max_mb, "Largest recording per node (MiB)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--dashboard-port", opts->dashboard_port,
                   "Port of the web dashboard (default 15700, or any free port if taken; 0: any)");
   cmd->add_flag("--no-dashboard", opts->no_dashboard, "Do not serve the web dashboard");
@@ -434,7 +504,7 @@ std::function<int()> add_run_command(CLI::App& parent) {
   cmd->add_flag("--shared-noise", opts->shared_noise,
                 "One noise source for all receivers (the paper's setup)");
   cmd->add_option("--summary-json", opts->summary_json,
-                  "Write the final counters as JSON to this file");
+                  "Write the final counters as JSON to this file (checked at start)");
   return [opts] { return run(*opts); };
 }
 

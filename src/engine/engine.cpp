@@ -16,6 +16,7 @@
 #include "rfsitl/common/spsc_ring.hpp"
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/engine/tick_clock.hpp"
+#include "rfsitl/engine/traffic_schedule.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 
@@ -97,6 +98,7 @@ class LockStepEngine final : public Engine {
         clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
                s.timing.mode == scenario::TimeMode::kRealTime),
         pool_(worker_count(s)),
+        traffic_(s.traffic, s.timing.sample_rate_hz),
         reporter_(scenario_, channel_) {
     const std::size_t n = s.nodes.size();
     nodes_.resize(n);
@@ -162,7 +164,6 @@ class LockStepEngine final : public Engine {
         reporter_.outcome(o, now_);
       }
     });
-    schedule_traffic();
   }
 
   const std::vector<NodeId>& node_ids() const override { return ids_; }
@@ -262,29 +263,15 @@ class LockStepEngine final : public Engine {
     return static_cast<float>(scenario_.channel.noise_variance * gain_ * gain_);
   }
 
-  void schedule_traffic() {
-    for (const auto& item : scenario_.traffic) {
-      for (unsigned r = 0; r < item.repeat; ++r) {
-        const double at = item.at_s + r * item.interval_s;
-        traffic_.push_back(
-            {static_cast<SampleTime>(std::llround(at * scenario_.timing.sample_rate_hz)), item.src,
-             item.dst, item.size_bytes, r});
-      }
-    }
-    std::stable_sort(traffic_.begin(), traffic_.end(),
-                     [](const auto& a, const auto& b) { return a.at < b.at; });
-  }
-
   /// Scenario traffic enters its node's queue at the first tick boundary at or
   /// after its scheduled time.
   void inject_traffic() {
-    while (next_traffic_ < traffic_.size() && traffic_[next_traffic_].at <= now_) {
-      const auto& t = traffic_[next_traffic_++];
-      const auto node = index_of(t.src);
+    while (const auto t = traffic_.pop_due(now_)) {
+      const auto node = index_of(t->src);
       if (!node) continue;  // validated scenarios name only known sources
-      NetFrame frame{t.src, t.dst, std::vector<std::uint8_t>(t.size, 0)};
-      for (std::size_t b = 0; b < t.size; ++b) {
-        frame.payload[b] = static_cast<std::uint8_t>((t.repeat_index + b) & 0xFF);
+      NetFrame frame{t->src, t->dst, std::vector<std::uint8_t>(t->size, 0)};
+      for (std::size_t b = 0; b < t->size; ++b) {
+        frame.payload[b] = static_cast<std::uint8_t>((t->repeat_index + b) & 0xFF);
       }
       NodeCounters::bump(counters_[*node].handed_in);
       reporter_.handed_in(*node, frame, now_);
@@ -534,14 +521,6 @@ class LockStepEngine final : public Engine {
     wr(status_.receiver_ticks_blanked, blanked_ticks_);
   }
 
-  struct ScheduledFrame {
-    SampleTime at;
-    NodeId src;
-    NodeId dst;
-    std::size_t size;
-    unsigned repeat_index;
-  };
-
   scenario::Scenario scenario_;
   FrameSink& sink_;
   std::size_t block_;
@@ -562,8 +541,7 @@ class LockStepEngine final : public Engine {
   WorkerPool pool_;
   std::optional<channel::NoiseSource> shared_noise_;
   std::vector<cf32> shared_noise_buf_;
-  std::vector<ScheduledFrame> traffic_;
-  std::size_t next_traffic_ = 0;
+  TrafficSchedule traffic_;
   SampleTime now_ = 0;
   std::uint64_t run_ticks_ = 0;
   std::uint64_t skipped_ticks_ = 0;

@@ -127,7 +127,9 @@ void FrameLedger::settle_record(Record& r, const channel::ChannelMatrix& channel
       if (m == r.tx) continue;
       if (!best || channel.power_gain(r.tx, m) > channel.power_gain(r.tx, *best)) best = m;
     }
-    const LossReason why = best ? loss_reason(r, *best, channel) : LossReason::kUnknownDestination;
+    // A lone node's broadcast has no link to anyone: below sensitivity, as for
+    // a receiver without a position (its destination, "everyone", is known).
+    const LossReason why = best ? loss_reason(r, *best, channel) : LossReason::kBelowSensitivity;
     NodeCounters::bump(c.lost[static_cast<std::size_t>(why)]);
     report(r, false, best, why);
     return;

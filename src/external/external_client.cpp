@@ -28,7 +28,7 @@ const Welcome& ExternalClient::connect() {
   }
   if (message_.type() == MsgType::kReject) {
     channel_.close();
-    throw std::runtime_error(where + "rejected: " + message_.extra_text());
+    throw ConnectRejected(where + "rejected: " + message_.extra_text(), message_.extra_text());
   }
   if (message_.type() != MsgType::kWelcome) {
     channel_.close();

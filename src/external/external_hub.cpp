@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -15,6 +16,8 @@
 
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
+
+#include "rfsitl/external/repeat_limiter.hpp"
 
 namespace rfsitl::external {
 
@@ -47,6 +50,12 @@ class Hub final : public ExternalHub {
     const char b = 1;
     [[maybe_unused]] const auto n = ::write(wake_pipe_[1], &b, 1);
     thread_.join();
+    // Refusals that only a later summary line would have reported.
+    for (const auto& p : refusal_log_.take_pending()) {
+      spdlog::warn("external socket {}: refused {} more connection(s) since the last report: {}",
+                   settings_.socket_path, p.repeats,
+                   p.key.empty() ? std::string("other reasons") : p.key);
+    }
     ::close(listen_fd_);
     ::close(wake_pipe_[0]);
     ::close(wake_pipe_[1]);
@@ -122,10 +131,38 @@ class Hub final : public ExternalHub {
 
   void reject(MessageChannel& ch, const std::string& why) {
     rejected_.fetch_add(1);
-    spdlog::warn("external socket {}: refused a connection: {}", settings_.socket_path, why);
+    log_refusal(why);
     MsgHeader h;
     h.type = static_cast<std::uint16_t>(MsgType::kReject);
     ch.send(h, {}, {reinterpret_cast<const std::uint8_t*>(why.data()), why.size()});
+  }
+
+  // A process in the wrong role (or for an unknown node) reconnects again and
+  // again: the first refusals of each reason are logged in full, then one line
+  // with a count per period, so the log stays readable; rejected_ counts all.
+  void log_refusal(const std::string& why) {
+    const auto v = refusal_log_.record(why, RepeatLimiter::Clock::now());
+    const std::string& path = settings_.socket_path;
+    const double period_s =
+        std::chrono::duration<double>(refusal_log_.settings().summary_every).count();
+    switch (v.action) {
+      case RepeatLimiter::Action::kLog:
+        spdlog::warn("external socket {}: refused a connection: {}", path, why);
+        break;
+      case RepeatLimiter::Action::kLogLast:
+        spdlog::warn(
+            "external socket {}: refused a connection: {} (further refusals {} are logged "
+            "once per {:.0f} s with a count)",
+            path, why, v.other_keys ? "for new reasons" : "for this reason", period_s);
+        break;
+      case RepeatLimiter::Action::kSummarize:
+        spdlog::warn("external socket {}: refused {} more connection(s) in the last {:.1f} s: {}{}",
+                     path, v.repeats, v.seconds,
+                     v.other_keys ? "various reasons, the latest: " : "", why);
+        break;
+      case RepeatLimiter::Action::kQuiet:
+        break;
+    }
   }
 
   // Handshakes one connection on the accept thread; a slow peer delays the next
@@ -183,6 +220,7 @@ class Hub final : public ExternalHub {
   int wake_pipe_[2] = {-1, -1};
   std::atomic<bool> stopping_{false};
   std::atomic<std::uint64_t> rejected_{0};
+  RepeatLimiter refusal_log_;  // accept thread only (and the destructor after it)
   std::thread thread_;
 };
 

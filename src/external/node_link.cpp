@@ -1,5 +1,9 @@
 #include "rfsitl/external/node_link.hpp"
 
+#include <poll.h>
+
+#include <cerrno>
+
 #include <spdlog/spdlog.h>
 
 namespace rfsitl::external {
@@ -15,8 +19,10 @@ bool NodeLink::adopt() {
   if (!offered_.load(std::memory_order_acquire)) return false;
   std::lock_guard lock(offer_mutex_);
   if (!offered_channel_) return false;
-  if (channel_.is_open())
-    spdlog::warn("node {}: a new external connection replaces the old one", id_);
+  // The old connection ends here whether or not its process is still alive
+  // (a restarted child's old socket may not have been noticed closed yet):
+  // count it, so that joins - drops stays the number of live connections.
+  if (channel_.is_open()) count_drop("a new connection of the node replaces it", true);
   channel_ = std::move(*offered_channel_);
   offered_channel_.reset();
   program_ = std::move(offered_program_);
@@ -27,12 +33,34 @@ bool NodeLink::adopt() {
 
 void NodeLink::drop(const std::string& why) {
   // A channel that send() or receive() already closed still counts as a drop.
-  channel_.close();
+  count_drop(why, false);
+}
+
+void NodeLink::count_drop(const std::string& why, bool replaced) {
+  // Counted and logged before the peer can see the socket close, so that what
+  // it observes is already in the books.
   drops_.fetch_add(1, std::memory_order_relaxed);
-  spdlog::warn(
-      "node {}: external transceiver '{}' dropped: {}; the node is silent until it "
-      "connects again",
-      id_, program_, why);
+  spdlog::warn("node {}: external transceiver '{}' dropped: {}{}", id_, program_, why,
+               replaced ? "" : "; the node is silent until it connects again");
+  channel_.close();
+}
+
+bool NodeLink::watch_peer() {
+  if (!channel_.is_open()) return false;
+  if (++watch_calls_ % kPeerCheckEvery != 0) return true;
+  // Between round trips nothing is due from the peer, so readable data is
+  // left for the next call() to judge; only a hang-up or error means the
+  // process is gone (a dead process's end of the socket pair is closed by the
+  // kernel, which shows as POLLHUP here).
+  pollfd p{channel_.fd(), POLLIN | POLLRDHUP, 0};
+  int r;
+  do {
+    r = ::poll(&p, 1, 0);
+  } while (r < 0 && errno == EINTR);
+  if (r <= 0) return true;
+  if ((p.revents & (POLLHUP | POLLRDHUP | POLLERR | POLLNVAL)) == 0) return true;
+  drop("the process closed the connection while idle");
+  return false;
 }
 
 const Message* NodeLink::call(const MsgHeader& request, std::span<const cf32> samples,

@@ -33,6 +33,11 @@ class RemoteTransceiver final : public phy::Transceiver {
       reset_pending_ = false;
       start_.clear();
     }
+    // An idle node makes no round trip that would notice its process die, and
+    // a drop must be counted (and the TX queue held) when it happens, not at
+    // the next frame. The samples role needs no such check: it makes a round
+    // trip every tick.
+    link_->watch_peer();
   }
 
   // While the process is away the TX queue holds: nothing is started into the void.

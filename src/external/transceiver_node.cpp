@@ -1,14 +1,18 @@
 #include "rfsitl/external/transceiver_node.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 #include "rfsitl/external/external_client.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
+#include "rfsitl/external/retry_backoff.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 
 namespace rfsitl::external {
@@ -39,16 +43,47 @@ struct DecodeCollector : phy::RxHandler {
   }
 };
 
-void connect_with_retry(ExternalClient& client, double timeout_s) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+std::chrono::milliseconds to_ms(double seconds) {
+  return std::chrono::milliseconds(static_cast<std::int64_t>(seconds * 1e3));
+}
+
+/// Joins, retrying with exponential backoff until the connect timeout.
+/// Returns false if `stop` was set first.
+bool connect_with_retry(ExternalClient& client, const TransceiverNodeOptions& o,
+                        const std::atomic<bool>& stop) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point deadline =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                         std::chrono::duration<double>(o.connect_timeout_s));
+  RetryBackoff backoff(to_ms(o.retry_first_s), to_ms(o.retry_max_s));
+  std::set<std::string> reported;  // refusal reasons already printed
   for (;;) {
     try {
       client.connect();
-      return;
+      return true;
+    } catch (const ConnectRejected& e) {
+      // The emulator logs its side too, but only this process's user can fix
+      // it (the wrong --id, a scenario that gives the node another role).
+      if (reported.insert(e.reason()).second) {
+        std::fprintf(stderr,
+                     "rfsitl node %u: the emulator at %s refused this node: %s (retrying "
+                     "with backoff, giving up %g s after start)\n",
+                     o.node_id, o.socket_path.c_str(), e.reason().c_str(), o.connect_timeout_s);
+      }
+      if (Clock::now() >= deadline) throw;
     } catch (const std::runtime_error&) {
-      if (std::chrono::steady_clock::now() >= deadline) throw;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (Clock::now() >= deadline) throw;
     }
+    // Sleep in short slices so that SIGTERM is honoured at once; the last
+    // attempt falls on the deadline.
+    const Clock::time_point wake =
+        std::min<Clock::time_point>(Clock::now() + backoff.next(), deadline);
+    while (Clock::now() < wake) {
+      if (stop.load(std::memory_order_relaxed)) return false;
+      std::this_thread::sleep_for(
+          std::min<Clock::duration>(wake - Clock::now(), std::chrono::milliseconds(20)));
+    }
+    if (stop.load(std::memory_order_relaxed)) return false;
   }
 }
 
@@ -56,7 +91,7 @@ void connect_with_retry(ExternalClient& client, double timeout_s) {
 
 int run_transceiver_node(const TransceiverNodeOptions& o, const std::atomic<bool>& stop) {
   ExternalClient client({o.socket_path, o.node_id, "transceiver", "rfsitl node"});
-  connect_with_retry(client, o.connect_timeout_s);
+  if (!connect_with_retry(client, o, stop)) return 0;
   const Welcome& w = client.welcome();
   std::unique_ptr<phy::Transceiver> radio;
   try {

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <boost/asio.hpp>
+#include <chrono>
 #include <deque>
 #include <span>
 #include <thread>
@@ -13,8 +14,10 @@
 #include <spdlog/spdlog.h>
 
 #include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/io/agent_control.hpp"
 #include "rfsitl/io/location_parser.hpp"
 #include "rfsitl/io/net_framing.hpp"
+#include "rfsitl/io/port_slot.hpp"
 
 namespace rfsitl::io {
 namespace {
@@ -25,6 +28,8 @@ using tcp = asio::ip::tcp;
 constexpr std::size_t kReadChunk = 64 * 1024;
 constexpr std::size_t kMaxWriteBacklogBytes = 4 * 1024 * 1024;
 constexpr std::size_t kMaxLocationLine = 4096;
+constexpr std::chrono::milliseconds kAcceptRetry{100};
+constexpr std::uint8_t kNewline[] = {'\n'};
 
 /// Logs the first few problems of a kind in full, then one in a thousand, so a
 /// misbehaving client cannot flood the log; the counters still see every one.
@@ -33,34 +38,50 @@ bool should_log(std::uint64_t count) {
 }
 
 /// A client connection on one node's port. It reads until the peer closes and
-/// hands every chunk to consume(); pending handlers share its ownership.
-class PortSession : public std::enable_shared_from_this<PortSession> {
+/// hands every chunk to consume(); pending handlers share its ownership. Its
+/// port's slot decides whether it is the port's agent (port_slot.hpp).
+class PortSession : public SlotMember, public std::enable_shared_from_this<PortSession> {
  public:
   PortSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
-              engine::Engine& engine)
-      : socket_(std::move(socket)), node_(node), id_(id), port_(port), engine_(engine) {}
-  virtual ~PortSession() = default;
+              engine::Engine& engine, PortSlot& slot)
+      : socket_(std::move(socket)),
+        node_(node),
+        id_(id),
+        port_(port),
+        engine_(engine),
+        slot_(slot) {}
   PortSession(const PortSession&) = delete;
   PortSession& operator=(const PortSession&) = delete;
 
   void start() { read(); }
 
-  void close() {
+  void close() override {
     boost::system::error_code ignored;
     socket_.shutdown(tcp::socket::shutdown_both, ignored);
     socket_.close(ignored);
   }
 
-  bool open() const { return socket_.is_open(); }
+  bool open() const override { return socket_.is_open(); }
 
  protected:
   virtual void consume(std::span<const std::uint8_t> bytes) = 0;
+
+  /// The connection has ended: account for what it left unfinished.
+  virtual void finish() = 0;
+
+  /// Makes this connection the port's agent if it is not yet; false when it
+  /// can no longer be (it was closed meanwhile).
+  bool claim(const char* why) {
+    slot_.claim(this, why);
+    return slot_.is_agent(this);
+  }
 
   tcp::socket socket_;
   std::size_t node_;
   NodeId id_;
   std::uint16_t port_;
   engine::Engine& engine_;
+  PortSlot& slot_;
 
  private:
   void read() {
@@ -69,6 +90,8 @@ class PortSession : public std::enable_shared_from_this<PortSession> {
         [self = shared_from_this()](const boost::system::error_code& ec, std::size_t n) {
           if (ec) {
             self->close();
+            self->finish();
+            self->slot_.closed(self.get());
             return;
           }
           self->consume({self->buf_.data(), n});
@@ -83,8 +106,9 @@ class PortSession : public std::enable_shared_from_this<PortSession> {
 class NetSession final : public PortSession {
  public:
   NetSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
-             engine::Engine& engine)
-      : PortSession(std::move(socket), node, id, port, engine), parser_(engine.max_payload(node)) {}
+             engine::Engine& engine, PortSlot& slot)
+      : PortSession(std::move(socket), node, id, port, engine, slot),
+        parser_(engine.max_payload(node)) {}
 
   /// Queues a frame for the agent; false when the backlog is full.
   bool send(const NetFrame& frame) {
@@ -101,17 +125,57 @@ class NetSession final : public PortSession {
     errors_.clear();
     parser_.feed(bytes, frames_, errors_);
     engine::NodeCounters& c = engine_.counters(node_);
-    for (const FramingError& e : errors_) {
-      engine::NodeCounters::bump(c.framing_errors);
-      if (should_log(c.framing_errors.load())) {
-        spdlog::warn("node {} net port {}: frame rejected: {}", id_, port_, e.message);
-      }
-    }
+    for (const FramingError& e : errors_) reject(e.message);
     for (NetFrame& f : frames_) {
+      if (is_control_frame(f)) {
+        answer_control(control_text(f));
+        continue;
+      }
+      if (!claim("sent a frame")) return;
+      if (f.src != id_) {
+        // The ledger, traces and the receiver's agent all trust src: a frame
+        // that claims another sender is refused rather than misattributed.
+        reject("src byte " + std::to_string(f.src) + " is not this port's node id " +
+               std::to_string(id_));
+        continue;
+      }
+      if (f.dst == id_) {
+        reject("dst " + std::to_string(f.dst) +
+               " is this node itself (a radio does not hear its own transmission)");
+        continue;
+      }
       if (!engine_.submit(node_, std::move(f)) && should_log(c.queue_dropped.load())) {
         spdlog::warn("node {} net port {}: TX queue full, frame dropped", id_, port_);
       }
     }
+  }
+
+  void finish() override {
+    if (parser_.buffered() > 0) {
+      reject("connection ended inside a frame (" + std::to_string(parser_.buffered()) +
+             " bytes without a terminator)");
+    }
+  }
+
+  void reject(const std::string& why) {
+    auto& errors = engine_.counters(node_).framing_errors;
+    engine::NodeCounters::bump(errors);
+    if (should_log(errors.load())) {
+      spdlog::warn("node {} net port {}: frame rejected: {}", id_, port_, why);
+    }
+  }
+
+  void answer_control(std::string_view request) {
+    std::string reply;
+    if (request == kStatusRequest) {
+      reply = format_status_reply({id_, slot_.held_by_other(this), engine_.max_payload(node_)});
+    } else if (request == kTakeRequest) {
+      claim("asked to take over");
+      reply = std::string(kTakenReply);
+    } else {
+      reply = "rfsitl error unknown request";
+    }
+    send(make_control_frame(reply));
   }
 
   void write_next() {
@@ -141,8 +205,8 @@ class NetSession final : public PortSession {
 class LocationSession final : public PortSession {
  public:
   LocationSession(tcp::socket socket, std::size_t node, NodeId id, std::uint16_t port,
-                  engine::Engine& engine, const GeodeticPosition& origin)
-      : PortSession(std::move(socket), node, id, port, engine), origin_(origin) {}
+                  engine::Engine& engine, PortSlot& slot, const GeodeticPosition& origin)
+      : PortSession(std::move(socket), node, id, port, engine, slot), origin_(origin) {}
 
  private:
   void consume(std::span<const std::uint8_t> bytes) override {
@@ -157,6 +221,7 @@ class LocationSession final : public PortSession {
         continue;
       }
       ++line_number_;
+      if (!claim("sent a position")) return;
       if (overlong_) {
         reject("line longer than " + std::to_string(kMaxLocationLine) + " bytes");
       } else {
@@ -164,6 +229,18 @@ class LocationSession final : public PortSession {
       }
       line_.clear();
       overlong_ = false;
+    }
+  }
+
+  // A last line without its newline (`echo -n`, a feed that stops mid-write)
+  // is still a line: used if it parses, counted as an error if not.
+  void finish() override {
+    if (line_.empty() && !overlong_) return;
+    if (slot_.is_agent(this)) {
+      consume(std::span<const std::uint8_t>(kNewline));
+    } else {
+      ++line_number_;  // a waiting connection may not move the node on its way out
+      reject("connection ended before its first complete line");
     }
   }
 
@@ -207,12 +284,8 @@ class AsioNodeServers final : public NodeServers {
       const bool own_net_port =
           std::find(config_.external_net_ports.begin(), config_.external_net_ports.end(), ids[i]) ==
           config_.external_net_ports.end();
-      if (own_net_port) {
-        net_[i].acceptor = listen(net_port(config_, ids[i]), "net", ids[i]);
-        accept_net(i);
-      }
-      loc_[i].acceptor = listen(loc_port(config_, ids[i]), "location", ids[i]);
-      accept_loc(i);
+      if (own_net_port) open_port(net_[i], net_port(config_, ids[i]), "net", i);
+      open_port(loc_[i], loc_port(config_, ids[i]), "location", i);
     }
     thread_ = std::thread([this] { io_.run(); });
   }
@@ -220,13 +293,12 @@ class AsioNodeServers final : public NodeServers {
   void stop() override {
     if (!thread_.joinable()) return;
     asio::post(io_, [this] {
-      for (auto& p : net_) {
-        if (p.session) p.session->close();
-        if (p.acceptor) p.acceptor->close();
-      }
-      for (auto& p : loc_) {
-        if (p.session) p.session->close();
-        if (p.acceptor) p.acceptor->close();
+      for (auto* ports : {&net_, &loc_}) {
+        for (auto& p : *ports) {
+          if (p.slot) p.slot->close_all();
+          if (p.acceptor) p.acceptor->close();
+          if (p.retry) p.retry->cancel();
+        }
       }
       io_.stop();
     });
@@ -235,22 +307,34 @@ class AsioNodeServers final : public NodeServers {
 
   void deliver(std::size_t node, NetFrame&& frame) override {
     asio::post(io_, [this, node, f = std::move(frame)] {
-      auto& session = net_[node].session;
-      if (!session || !session->open() || !session->send(f)) {
+      // Only NetSessions are admitted to a net port's slot.
+      auto* agent =
+          net_[node].slot ? static_cast<NetSession*>(net_[node].slot->agent().get()) : nullptr;
+      if (agent == nullptr || !agent->open() || !agent->send(f)) {
         engine::NodeCounters::bump(engine_->counters(node).to_agent_dropped);
       }
     });
   }
 
  private:
-  struct NetPort {
+  struct Port {
     std::unique_ptr<tcp::acceptor> acceptor;
-    std::shared_ptr<NetSession> session;
+    std::unique_ptr<PortSlot> slot;
+    std::unique_ptr<asio::steady_timer> retry;  ///< re-arms accept after a failure
+    bool net = false;
+    std::uint16_t number = 0;
   };
-  struct LocPort {
-    std::unique_ptr<tcp::acceptor> acceptor;
-    std::shared_ptr<LocationSession> session;
-  };
+
+  void open_port(Port& p, std::uint16_t number, const char* role, std::size_t i) {
+    const NodeId id = engine_->node_ids()[i];
+    p.acceptor = listen(number, role, id);
+    p.slot = std::make_unique<PortSlot>("node " + std::to_string(id) + " " + role + " port " +
+                                        std::to_string(number));
+    p.retry = std::make_unique<asio::steady_timer>(io_);
+    p.net = std::string_view(role) == "net";
+    p.number = number;
+    accept(p, i);
+  }
 
   std::unique_ptr<tcp::acceptor> listen(std::uint16_t port, const char* role, NodeId id) {
     const std::string where = std::string(role) + " port " + std::to_string(port) + " of node " +
@@ -271,39 +355,51 @@ class AsioNodeServers final : public NodeServers {
     return acceptor;
   }
 
-  // A new connection replaces the previous one (DESIGN.md section 3).
-  void accept_net(std::size_t i) {
-    net_[i].acceptor->async_accept([this, i](const boost::system::error_code& ec,
-                                             tcp::socket socket) {
-      if (ec) return;  // acceptor closed
-      socket.set_option(tcp::no_delay(true));
-      if (net_[i].session) net_[i].session->close();
-      const NodeId id = engine_->node_ids()[i];
-      net_[i].session =
-          std::make_shared<NetSession>(std::move(socket), i, id, net_port(config_, id), *engine_);
-      net_[i].session->start();
-      accept_net(i);
-    });
+  // A new connection is admitted to the port's slot, which decides when it
+  // becomes the agent (port_slot.hpp).
+  void accept(Port& p, std::size_t i) {
+    p.acceptor->async_accept(
+        [this, &p, i](const boost::system::error_code& ec, tcp::socket socket) {
+          if (ec) return accept_failed(p, i, ec);
+          const NodeId id = engine_->node_ids()[i];
+          std::shared_ptr<PortSession> session;
+          if (p.net) {
+            socket.set_option(tcp::no_delay(true));
+            session =
+                std::make_shared<NetSession>(std::move(socket), i, id, p.number, *engine_, *p.slot);
+          } else {
+            session = std::make_shared<LocationSession>(std::move(socket), i, id, p.number,
+                                                        *engine_, *p.slot, config_.origin);
+          }
+          p.slot->admit(session);
+          session->start();
+          accept(p, i);
+        });
   }
 
-  void accept_loc(std::size_t i) {
-    loc_[i].acceptor->async_accept(
-        [this, i](const boost::system::error_code& ec, tcp::socket socket) {
-          if (ec) return;
-          if (loc_[i].session) loc_[i].session->close();
-          const NodeId id = engine_->node_ids()[i];
-          loc_[i].session = std::make_shared<LocationSession>(
-              std::move(socket), i, id, loc_port(config_, id), *engine_, config_.origin);
-          loc_[i].session->start();
-          accept_loc(i);
-        });
+  // Out of descriptors (EMFILE, ENFILE) or any other transient failure: the
+  // listener must not go deaf for the rest of the run. It retries after a
+  // pause, so that a full descriptor table does not turn into a busy loop.
+  void accept_failed(Port& p, std::size_t i, const boost::system::error_code& ec) {
+    if (ec == asio::error::operation_aborted || !p.acceptor->is_open()) return;  // shutdown
+    ++accept_failures_;
+    if (should_log(accept_failures_)) {
+      spdlog::warn("{}: cannot accept a connection ({}); retrying in {} ms", p.slot->where(),
+                   ec.message(), kAcceptRetry.count());
+    }
+    // The port's own timer: nothing to allocate while descriptors (or memory) are short.
+    p.retry->expires_after(kAcceptRetry);
+    p.retry->async_wait([this, &p, i](const boost::system::error_code& wait_ec) {
+      if (!wait_ec && p.acceptor->is_open()) accept(p, i);
+    });
   }
 
   ServerConfig config_;
   asio::io_context io_;
   engine::Engine* engine_ = nullptr;
-  std::vector<NetPort> net_;
-  std::vector<LocPort> loc_;
+  std::vector<Port> net_;
+  std::vector<Port> loc_;
+  std::uint64_t accept_failures_ = 0;
   std::thread thread_;
 };
 

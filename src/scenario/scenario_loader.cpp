@@ -32,6 +32,10 @@ namespace {
 
 using namespace detail;
 
+// Far beyond any real scenario (250 nodes and thousands of traffic lines are a
+// few hundred KiB); keeps a wrong path such as /dev/zero from eating memory.
+constexpr std::size_t kMaxScenarioBytes = std::size_t{16} << 20;
+
 // ---- YAML scalars -------------------------------------------------------------------------
 
 int line_of(const YAML::Node& n) {
@@ -348,12 +352,10 @@ TrafficItem read_traffic_item(Context& c, const Entry& at) {
   return t;
 }
 
-Scenario read_scenario(Context& c, const YAML::Node& root) {
-  c.record("", std::max(line_of(root), 1));  // "nodes: required" points at the document
-  if (!root.IsMap() && !root.IsNull())
-    c.fail("(top level)", "expected a mapping, got " + kind_of(root));
-  Section sec(c, Entry{root, ""});
-  Scenario s;
+// The settings a scenario file and the command line share (everything but nodes
+// and traffic), read from the top-level mapping into `s`; keys not given keep
+// their value.
+void read_settings(Context& c, Section& sec, Scenario& s) {
   sec.get("name", s.name);
   sec.get("seed", s.seed, kSeed);
   read_time(c, sec.take("time"), s.timing);
@@ -362,11 +364,21 @@ Scenario read_scenario(Context& c, const YAML::Node& root) {
   read_channel(c, sec.take("channel"), s.channel);
   read_engine(c, sec.take("engine"), s.engine);
   read_external(c, sec.take("external"), s.external);
-  for_each_item(c, sec.require("nodes"),
-                [&](const Entry& e) { s.nodes.push_back(read_node(c, e, s.phy)); });
-  for_each_item(c, sec.take("traffic"),
-                [&](const Entry& e) { s.traffic.push_back(read_traffic_item(c, e)); });
-  sec.finish();
+}
+
+Scenario read_scenario(Context& c, const YAML::Node& root) {
+  c.record("", std::max(line_of(root), 1));  // "nodes: required" points at the document
+  if (!root.IsMap() && !root.IsNull())
+    c.fail("(top level)", "expected a mapping, got " + kind_of(root));
+  Section sec(c, Entry{root, ""});
+  Scenario s;
+  read_settings(c, sec, s);
+  const Entry nodes = sec.take("nodes");
+  const Entry traffic = sec.take("traffic");
+  sec.finish();  // a misspelt key (`nodez:`) is named before `nodes` is missed
+  if (!nodes) c.fail("nodes", "required");
+  for_each_item(c, nodes, [&](const Entry& e) { s.nodes.push_back(read_node(c, e, s.phy)); });
+  for_each_item(c, traffic, [&](const Entry& e) { s.traffic.push_back(read_traffic_item(c, e)); });
   return s;
 }
 
@@ -398,6 +410,10 @@ Scenario load_scenario_file(const std::string& path) {
   std::array<char, 8192> buf{};
   for (std::size_t n; (n = std::fread(buf.data(), 1, buf.size(), file.get())) > 0;) {
     contents.append(buf.data(), n);
+    if (contents.size() > kMaxScenarioBytes) {  // e.g. /dev/zero: never a scenario
+      throw ScenarioError(path + ": cannot read scenario file: larger than " +
+                          std::to_string(kMaxScenarioBytes >> 20) + " MiB");
+    }
   }
   if (std::ferror(file.get())) throw unreadable();  // e.g. a directory: EISDIR
   return parse_scenario(contents, path);
@@ -405,6 +421,25 @@ Scenario load_scenario_file(const std::string& path) {
 
 void validate_scenario(const Scenario& s) {
   validate(s, Context("scenario"));
+}
+
+void apply_setting(Scenario& s, std::string_view dotted_key, std::string_view value,
+                   const std::string& source) {
+  // The setting as the one-entry document a file would hold ("a.b: v"), read by
+  // the file's own readers so that both paths share every rule.
+  YAML::Node root(YAML::NodeType::Map);
+  YAML::Node at = root;
+  std::string_view rest = dotted_key;
+  for (std::size_t dot; (dot = rest.find('.')) != std::string_view::npos;) {
+    at.reset(at[std::string(rest.substr(0, dot))]);  // rebinds; `=` would copy into it
+    rest.remove_prefix(dot + 1);
+  }
+  at[std::string(rest)] = std::string(value);
+  Context c(source);
+  Section sec(c, Entry{root, ""});
+  read_settings(c, sec, s);
+  sec.finish();
+  validate(s, c);
 }
 
 }  // namespace rfsitl::scenario

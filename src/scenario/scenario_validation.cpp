@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <cmath>
 #include <string>
 #include <vector>
 
+#include "rfsitl/phy/dsss/code_adaptation.hpp"
 #include "rfsitl/phy/dsss/codes.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 #include "scenario_rules.hpp"
@@ -27,18 +30,27 @@ void check_position(const Context& c, const Position& p, const std::string& key)
   }
 }
 
+// An address literal, or a host name (resolved when the run starts, e.g. localhost).
 bool valid_bind_address(const std::string& a) {
   in6_addr buf{};  // large enough for either family
-  return a == "localhost" || inet_pton(AF_INET, a.c_str(), &buf) == 1 ||
-         inet_pton(AF_INET6, a.c_str(), &buf) == 1;
+  if (inet_pton(AF_INET, a.c_str(), &buf) == 1 || inet_pton(AF_INET6, a.c_str(), &buf) == 1) {
+    return true;
+  }
+  const auto name_char = [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '.';
+  };
+  // A name needs a letter: 300.1.2.3 is a mistyped address, not a host.
+  const auto letter = [](char ch) { return std::isalpha(static_cast<unsigned char>(ch)) != 0; };
+  return a.size() <= 253 && std::all_of(a.begin(), a.end(), name_char) &&
+         std::any_of(a.begin(), a.end(), letter);
 }
 
 using Listed = std::array<bool, 256>;  // indexed by NodeId
 
 void check_ports(const PortConfig& p, const Context& c, const Listed& listed, unsigned max_id) {
   if (!valid_bind_address(p.bind_address)) {
-    c.fail("ports.bind",
-           "expected an IPv4/IPv6 address or localhost, got '" + p.bind_address + "'");
+    c.fail("ports.bind", "expected an IPv4/IPv6 address or a host name such as localhost, got '" +
+                             p.bind_address + "'");
   }
   for (const auto& [key, base] :
        {std::pair{"ports.net_base", p.net_base}, {"ports.loc_base", p.loc_base}}) {
@@ -80,6 +92,13 @@ void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
     c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, src_phy.max_payload_bytes});
     c.check(t.repeat, key + ".repeat", kRepeat);
     c.check(t.interval_s, key + ".interval_s", kNonNegative);
+    // The sample clock counts to 2^62; a later frame could never be sent.
+    const double last_s = t.at_s + (t.repeat - 1.0) * t.interval_s;
+    if (!(last_s * s.timing.sample_rate_hz < 0x1p62)) {
+      c.fail(key + ".at_s",
+             "its last frame would be at " + fmt(last_s) +
+                 " s, beyond the sample clock (2^62 samples at time.sample_rate_hz)");
+    }
   }
 }
 
@@ -100,7 +119,15 @@ void check_phy(const Context& c, const PhyConfig& p, const std::string& key) {
   c.check_name(p.modulation, key + ".modulation", kDsssModulations);
   c.check(p.samples_per_chip, key + ".samples_per_chip", kSamplesPerChip);
   try {
-    (void)phy::dsss::code_by_name(p.code);
+    const phy::dsss::SpreadingCode code = phy::dsss::code_by_name(p.code);
+    // Adaptation moves between members of the code's Gold family; a code
+    // without one (barker11, mseq255) leaves it nothing to choose from.
+    if (p.type == "dsss" && p.adaptive && phy::dsss::adaptation_candidates(code, 2).size() < 2) {
+      c.fail(key + ".adaptive",
+             "needs a code with a Gold family (mseq<N> or gold<N> with N in "
+             "31, 63, 127, 511, 1023), but code is '" +
+                 p.code + "'");
+    }
   } catch (const std::invalid_argument& e) {
     c.fail(key + ".code", e.what());
   }
@@ -137,6 +164,14 @@ void validate(const Scenario& s, const Context& c) {
   c.check_name(s.channel.model, "channel.model", kChannelModels);
   c.check(s.channel.path_loss_exponent, "channel.path_loss_exponent", kNonNegative);
   c.check(s.channel.noise_variance, "channel.noise_variance", kNonNegative);
+  if (s.channel.noise_variance > 0) {  // noise_power_db's range, however it was given
+    const double db = 10.0 * std::log10(s.channel.noise_variance);
+    constexpr double kRoundTrip = 1e-9;  // 10^(300/10) reads back as 300.00000000000006
+    if (!(db >= kNoisePowerDb.lo - kRoundTrip && db <= kNoisePowerDb.hi + kRoundTrip)) {
+      c.fail("channel.noise_variance",
+             "the noise power " + kNoisePowerDb.describe() + " dB, got " + fmt(db) + " dB");
+    }
+  }
   check_position(c, s.channel.origin, "channel.origin");
   c.check(s.timing.speed, "time.speed", kPositive);
   c.check(s.timing.sample_rate_hz, "time.sample_rate_hz", kPositive);

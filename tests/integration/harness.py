@@ -8,6 +8,7 @@ SIGKILL after a timeout) when its `with` block ends.
 import json
 import os
 import random
+import re
 import select
 import signal
 import socket
@@ -66,8 +67,10 @@ class Emulator:
     """`with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:` runs rfsitl."""
 
     def __init__(self, nodes, extra_yaml="", args=(), ready_timeout=60.0, node_phy=None,
-                 ready_marker="rfsitl: ready"):
+                 ready_marker="rfsitl: ready", max_open_files=None, env=None):
         self.ready_marker = ready_marker
+        self.max_open_files = max_open_files
+        self.env = dict(os.environ, **(env or {}))
         self.nodes = nodes
         self.net_base, self.loc_base = pick_port_bases(list(nodes))
         self.dir = tempfile.TemporaryDirectory(prefix="rfsitl-it-")
@@ -91,8 +94,15 @@ class Emulator:
         return self.loc_base + 10 * node_id
 
     def __enter__(self):
+        limit = self.max_open_files
+
+        def limit_files():  # in the child, before exec: `ulimit -n`
+            if limit is not None:
+                import resource
+                resource.setrlimit(resource.RLIMIT_NOFILE, (limit, limit))
+
         self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     text=True)
+                                     text=True, preexec_fn=limit_files, env=self.env)
         ready = threading.Event()
 
         def pump():
@@ -143,6 +153,25 @@ class Emulator:
         c = NetClient(self.net_port(node_id))
         self._clients.append(c)
         return c
+
+    def agent_connected(self, node_id):
+        """Asks node_id's net port (on a connection of its own) whether an agent holds it."""
+        c = NetClient(self.net_port(node_id))
+        try:
+            reply = c.control("rfsitl status")
+        finally:
+            c.close()
+        m = re.search(r"agent=(\d)", reply)
+        assert m, reply
+        return m.group(1) == "1"
+
+    def wait_for_agent(self, node_id, timeout=20.0):
+        """Waits until node_id's net port has admitted an agent."""
+        deadline = time.monotonic() + timeout
+        while not self.agent_connected(node_id):
+            if time.monotonic() > deadline:
+                raise AssertionError(f"no agent on node {node_id}'s net port")
+            time.sleep(0.02)
 
     def feed(self, node_id):
         c = LocationFeed(self.loc_port(node_id))
@@ -205,6 +234,36 @@ class NetClient:
 
     def send_raw(self, data):
         self.sock.sendall(data)
+
+    def control(self, request, timeout=10.0):
+        """Sends a control frame (src = dst = 0) and returns the reply's text."""
+        self.send(0, 0, request.encode())
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            for src, dst, payload in self.receive(1, timeout=deadline - time.monotonic()):
+                if src == 0 and dst == 0:
+                    return payload.decode()
+        raise AssertionError(f"no reply to control request {request!r}")
+
+    def take(self):
+        """Makes this connection its port's agent at once."""
+        reply = self.control("rfsitl take")
+        assert reply == "rfsitl taken", reply
+
+    def closed_by_peer(self, timeout=10.0):
+        """True when the emulator closes this connection within `timeout` s."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            readable, _, _ = select.select([self.sock], [], [], deadline - time.monotonic())
+            if readable:
+                try:
+                    chunk = self.sock.recv(65536)
+                except ConnectionResetError:
+                    return True
+                if not chunk:
+                    return True
+                self.buf += chunk
+        return False
 
     def receive(self, count=1, timeout=2.0):
         """Up to `count` frames as (src, dst, payload), waiting at most `timeout` s."""

@@ -2,6 +2,7 @@
 ports give clear errors instead of crashes."""
 
 import os
+import resource
 import socket
 import subprocess
 import tempfile
@@ -47,6 +48,47 @@ class AccountingTest(unittest.TestCase):
         assert_accounted(self, summary)
 
 
+class DescriptorExhaustionTest(unittest.TestCase):
+    def test_listener_recovers_once_descriptors_free_up(self):
+        with Emulator({1: (0, 0, 10), 2: (6, 0, 10)}) as emu:
+            # Every path a connection takes, once while descriptors are plenty
+            # (UBSan checks a new kind of call through a pipe, which it could not
+            # open at the limit): agent, replacement, probe, on both port kinds.
+            old = emu.agent(2)
+            emu.wait_for_agent(2)
+            agent2 = emu.agent(2)
+            agent2.send(2, 1, b"replacing")
+            self.assertTrue(old.closed_by_peer())
+            feed = emu.feed(2)
+            feed.send_line('{"x": 6, "y": 0, "z": 10}')
+            emu.feed(2).send_line('{"x": 6, "y": 0, "z": 10}')
+            emu.wait_until(lambda st: next(n for n in st["nodes"] if n["id"] == 2)
+                           ["location_updates"] == 2, what="both positions")
+            pid = emu.proc.pid
+            limits = resource.prlimit(pid, resource.RLIMIT_NOFILE)
+            in_use = len(os.listdir(f"/proc/{pid}/fd"))
+            # `ulimit -n` at what is open now: the next accept fails with EMFILE.
+            resource.prlimit(pid, resource.RLIMIT_NOFILE, (in_use, limits[1]))
+            try:
+                late = emu.agent(1)  # queued by the kernel, not yet accepted
+                deadline = time.monotonic() + 30
+                while not any("cannot accept a connection (Too many open files)" in line
+                              for line in emu.output):
+                    self.assertLess(time.monotonic(), deadline, "no accept failure was logged")
+                    time.sleep(0.02)
+            finally:
+                resource.prlimit(pid, resource.RLIMIT_NOFILE, limits)
+            # The listener tries again and admits the waiting connection.
+            got = []
+            deadline = time.monotonic() + 30
+            while not got and time.monotonic() < deadline:
+                late.send(1, 2, b"after the shortage")
+                got = agent2.receive(1, timeout=0.5)
+            self.assertEqual(got[:1], [(1, 2, b"after the shortage")])
+            summary = emu.stop()
+        assert_accounted(self, summary)
+
+
 class ErrorTest(unittest.TestCase):
     def run_cli(self, *args):
         return subprocess.run([BIN, *args], capture_output=True, text=True, timeout=60)
@@ -83,6 +125,52 @@ class ErrorTest(unittest.TestCase):
             h = self.run_cli(cmd, "--help")
             self.assertEqual(h.returncode, 0)
             self.assertIn("--net-base", h.stdout)
+
+    def test_unknown_command_is_named(self):
+        r = self.run_cli("bogus")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("unknown command 'bogus'", r.stderr)
+
+    def test_command_line_values_follow_the_scenario_rules(self):
+        cases = [
+            (("--noise-db", "400"), "--noise-db: channel.noise_power_db: must be in [-300, 300]"),
+            (("--speed", "0"), "--speed: time.speed: must be > 0, got 0"),
+            (("--tick", "0"), "--tick: time.tick_samples: must be in 1..1048576, got 0"),
+        ]
+        for args, expected in cases:
+            r = self.run_cli("run", "--nodes", "2", *args)
+            self.assertEqual(r.returncode, 2, args)
+            self.assertIn(expected, r.stderr)
+            self.assertLess(len(r.stderr), 300, r.stderr)
+
+    def test_nodes_flag_with_a_scenario_file_is_refused(self):
+        scenario = os.path.join(os.environ["RFSITL_SOURCE_DIR"], "scenarios", "mixed_phy.yaml")
+        r = self.run_cli("run", scenario, "--nodes", "4")
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--nodes builds the default formation and cannot be combined", r.stderr)
+
+    def test_missing_scenario_file_names_it_and_the_reason(self):
+        r = self.run_cli("run", "/nonexistent/scenario.yaml")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("/nonexistent/scenario.yaml: cannot read scenario file: No such file",
+                      r.stderr)
+
+    def test_unwritable_summary_path_fails_before_the_run(self):
+        net_base, loc_base = pick_port_bases([1, 2])
+        r = self.run_cli("run", "--nodes", "2", "--net-base", str(net_base), "--loc-base",
+                         str(loc_base), "--summary-json", "/nonexistent/dir/summary.json")
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--summary-json /nonexistent/dir/summary.json: cannot write", r.stderr)
+        self.assertNotIn("rfsitl: ready", r.stdout)
+
+    def test_bind_localhost_serves_every_port_and_the_dashboard(self):
+        net_base, loc_base = pick_port_bases([1, 2])
+        r = self.run_cli("run", "--nodes", "2", "--net-base", str(net_base), "--loc-base",
+                         str(loc_base), "--bind", "localhost", "--mode", "virtual",
+                         "--duration", "0.01", "--dashboard-port", "0")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("rfsitl: dashboard http://127.0.0.1:", r.stdout)
+        self.assertIn(f"net 127.0.0.1:{net_base + 10}", r.stdout)
 
 
 if __name__ == "__main__":

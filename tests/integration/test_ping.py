@@ -45,6 +45,52 @@ class PingTest(unittest.TestCase):
         self.assertEqual(emu.node(1)["handed_in"], 20)
         assert_accounted(self, summary)
 
+    def ping(self, emu, *args):
+        return subprocess.run(
+            [BIN, "ping", "--net-base", str(emu.net_base), "--connect-timeout", "30", *args],
+            capture_output=True, text=True, timeout=120)
+
+    def test_ping_refuses_to_displace_a_connected_agent(self):
+        with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:
+            agent = emu.agent(2)
+            emu.wait_for_agent(2)
+            r = self.ping(emu, "--src", "1", "--dst", "2", "--count", "1")
+            self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+            self.assertIn("node 2's net port has an agent connected", r.stderr)
+            self.assertIn("--take-over", r.stderr)
+            emu.agent(1).send(1, 2, b"agent kept")
+            self.assertEqual(agent.receive(1), [(1, 2, b"agent kept")])
+            emu.stop()
+
+    def test_take_over_replaces_the_agent_and_the_emulator_logs_it(self):
+        with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:
+            agent = emu.agent(2)
+            emu.wait_for_agent(2)
+            r = self.ping(emu, "--src", "1", "--dst", "2", "--count", "3", "--take-over")
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            self.assertTrue(agent.closed_by_peer())
+            emu.stop()
+        self.assertTrue(any("asked to take over" in line for line in emu.output), emu.output)
+
+    def test_exit_status_is_1_when_nothing_comes_back(self):
+        # Node 2 has no position, so no link: every ping is lost.
+        with Emulator({1: (0, 0, 10), 2: None}) as emu:
+            r = self.ping(emu, "--src", "1", "--dst", "2", "--count", "3", "--timeout", "0.2")
+            summary = emu.stop()
+        self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
+        self.assertIn("lost=3/3", r.stdout)
+        self.assertIn("no acknowledgement came back", r.stderr)
+        assert_accounted(self, summary)
+
+    def test_size_beyond_the_emulators_limit_is_refused_before_sending(self):
+        with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:
+            r = self.ping(emu, "--src", "1", "--dst", "2", "--count", "1", "--size", "2049")
+            summary = emu.stop()
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn("--size 2049 is more than node 1 accepts (phy.max_payload_bytes = 2048)",
+                      r.stderr)
+        self.assertEqual(emu.node(1)["handed_in"], 0)
+
 
 if __name__ == "__main__":
     unittest.main()

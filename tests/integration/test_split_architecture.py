@@ -1,7 +1,8 @@
 """The split architecture and external transceivers, through the real
 emulator: built-in transceivers in `rfsitl node` child processes give the same
 results as in the emulator's threads; a child that dies is restarted and its
-node rejoins while the others keep working; and a program in the "samples"
+node rejoins while the others keep working (also when it died idle: its drop
+is counted all the same); and a program in the "samples"
 role (written here from the protocol description alone) shares the channel
 with native nodes, is dropped when it hangs, and rejoins."""
 
@@ -13,7 +14,7 @@ import time
 import unittest
 
 from harness import (Emulator, ExternalSamplesNode, assert_accounted, child_pid,
-                     pack_samples)
+                     pack_samples, wait_for_output)
 
 TRAFFIC = """time: {mode: virtual, duration_s: 0.6}
 traffic:
@@ -81,11 +82,39 @@ class SplitArchitectureTest(unittest.TestCase):
             self.assertNotIn(new_pid, (None, pid))
             summary = emu.stop()
         ext = {n["id"]: n for n in summary["external"]["nodes"]}
-        self.assertEqual(ext[3]["joins"], 2)
-        self.assertGreaterEqual(ext[3]["drops"], 1)
+        # One process died, one took over: joins - drops is the one live connection.
+        self.assertEqual((ext[3]["joins"], ext[3]["drops"]), (2, 1))
         self.assertEqual((ext[1]["joins"], ext[1]["drops"]), (1, 0))
         self.assertEqual(summary["external"]["child_restarts"], 1)
         self.assertIn("killed by signal", "".join(emu.output))
+
+    def test_idle_child_killed_is_counted_as_a_drop_and_its_restart_as_a_join(self):
+        # No traffic at all: no round trip would ever notice the dead process.
+        nodes = {1: (0, 0, 10), 2: (10, 0, 10)}
+        joined = "node 2: external transceiver 'rfsitl node' joined"
+        with Emulator(nodes, args=["--arch", "split"]) as emu:
+            socket_path = f"/tmp/rfsitl-{emu.net_base}.sock"
+            # Adopted at the first tick after the hello (ready comes before).
+            self.assertTrue(wait_for_output(emu, joined), "node 2 never joined")
+            pid = child_pid(socket_path, 2)
+            self.assertIsNotNone(pid, "node 2's child process not found")
+            os.kill(pid, signal.SIGKILL)
+            self.assertTrue(wait_for_output(emu, "node 2: external transceiver 'rfsitl node' "
+                                            "dropped: the process closed the connection"),
+                            "the idle child's death was not noticed:\n" + "".join(emu.output))
+            deadline = time.monotonic() + 30
+            while (sum(joined in line for line in emu.output) < 2
+                   and time.monotonic() < deadline):
+                time.sleep(0.05)
+            self.assertEqual(sum(joined in line for line in emu.output), 2,
+                             "the restarted child did not rejoin:\n" + "".join(emu.output))
+            summary = emu.stop()
+        ext = {n["id"]: n for n in summary["external"]["nodes"]}
+        self.assertEqual((ext[2]["joins"], ext[2]["drops"], ext[2]["timeouts"]), (2, 1, 0))
+        self.assertEqual((ext[1]["joins"], ext[1]["drops"]), (1, 0))
+        self.assertEqual(summary["external"]["child_restarts"], 1)
+        text = "".join(emu.output)
+        self.assertRegex(text, r"node\s+2 transceiver\s+joins 2, drops 1")
 
     def test_samples_role_program_interferes_hangs_is_dropped_and_rejoins(self):
         nodes = {1: (0, 0, 10), 2: (20, 0, 10), 3: (10, 2, 10)}
@@ -120,7 +149,9 @@ class SplitArchitectureTest(unittest.TestCase):
             while not ext.closed and time.monotonic() < deadline:
                 time.sleep(0.05)
             self.assertTrue(ext.closed, "the emulator did not drop the hung program")
-            self.assertIn("no reply within 300 ms", "".join(emu.output))
+            # The log line may reach our reader just after the socket closed.
+            self.assertTrue(wait_for_output(emu, "no reply within 300 ms", timeout=10),
+                            "".join(emu.output))
             self.assertGreaterEqual(self._exchange(a1, a2, 10), 9)
             ext.close()
             again = ExternalSamplesNode(socket_path, 3, tx_for)

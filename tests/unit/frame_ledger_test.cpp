@@ -187,6 +187,14 @@ TEST(FrameLedger, FrameToUnknownIdIsUnknownDestination) {
   EXPECT_EQ(w.lost(0, LossReason::kUnknownDestination), 1U);
 }
 
+TEST(FrameLedger, LoneNodesBroadcastHasNoLinkSoIsBelowSensitivity) {
+  World w({0.0});
+  w.ledger.on_transmit(1, 0, kBroadcastId, 0, kLen);
+  w.settle_all();
+  EXPECT_EQ(w.lost(0, LossReason::kBelowSensitivity), 1U);
+  EXPECT_EQ(w.lost(0, LossReason::kUnknownDestination), 0U);
+}
+
 TEST(FrameLedger, BroadcastDecodedByAnyReceiverIsDeliveredOnceAtSettle) {
   World w({0.0, 5.0, 10.0});
   w.ledger.on_transmit(1, 0, kBroadcastId, 0, kLen);

@@ -1,6 +1,6 @@
 // Conformance of the 802.11a/g OFDM transmitter (IEEE 802.11-2016 clause 17)
 // with the worked example of Annex I.1 (36 Mb/s, 100-octet PSDU, scrambler state
-// 1011101), using the transcribed tables in shared/vectors/ieee80211a-annex-i
+// 1011101), using the transcribed tables in tests/vectors/ieee80211a-annex-i
 // (see its README.md; top level = 2016 edition, FCS 67 33 21 b6).
 //
 // Stages checked against published values (bits exactly, complex values to
@@ -57,7 +57,7 @@ constexpr unsigned kLength = 100;
 // ---- loader for the vector files -------------------------------------------
 
 std::string vector_path(const std::string& name) {
-  return std::string(RFSITL_SOURCE_DIR) + "/../shared/vectors/ieee80211a-annex-i/" + name;
+  return std::string(RFSITL_SOURCE_DIR) + "/tests/vectors/ieee80211a-annex-i/" + name;
 }
 
 std::vector<std::string> read_lines(const std::string& name) {

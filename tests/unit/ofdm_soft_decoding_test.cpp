@@ -21,7 +21,7 @@ namespace {
 
 using Bits = std::vector<std::uint8_t>;
 
-const std::string kVectors = RFSITL_SOURCE_DIR "/../shared/vectors/ieee80211a-annex-i/";
+const std::string kVectors = RFSITL_SOURCE_DIR "/tests/vectors/ieee80211a-annex-i/";
 
 Bits read_bits(const std::string& name) {
   std::ifstream in(kVectors + name);

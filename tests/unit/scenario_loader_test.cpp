@@ -233,7 +233,8 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
       {"nodes: [{id: 1}]\nchannel:\n  origin: {x: 1, y: 2}\n",
        "t.yaml:3: channel.origin: must be a geodetic position {lat, lon, alt}"},
       {"nodes: [{id: 1}]\nports:\n  bind: 300.1.2.3\n",
-       "t.yaml:3: ports.bind: expected an IPv4/IPv6 address or localhost, got '300.1.2.3'"},
+       "t.yaml:3: ports.bind: expected an IPv4/IPv6 address or a host name such as localhost, "
+       "got '300.1.2.3'"},
       {"nodes:\n  - id: 250\nports:\n  net_base: 64000\n",
        "t.yaml:4: ports.net_base: port of node 250 would be 66500 (> 65535); must be <= 63035"},
       {"nodes:\n  - id: 1\n  - id: 2\nports:\n  net_base: 15763\n  loc_base: 15753\n",

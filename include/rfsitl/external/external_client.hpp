@@ -4,6 +4,7 @@
 /// wire_protocol.hpp).
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -29,6 +30,19 @@ struct Tick {
   bool follows_previous = true;  ///< false when ticks were missed since the last one
 };
 
+/// Thrown by ExternalClient::connect() when the emulator answered the hello
+/// with kReject: retrying is pointless until the configuration changes.
+class ConnectRejected : public std::runtime_error {
+ public:
+  ConnectRejected(const std::string& what, std::string reason)
+      : std::runtime_error(what), reason_(std::move(reason)) {}
+  /// The emulator's kReject text alone.
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string reason_;
+};
+
 class ExternalClient {
  public:
   struct Settings {
@@ -41,8 +55,9 @@ class ExternalClient {
 
   explicit ExternalClient(Settings settings) : settings_(std::move(settings)) {}
 
-  /// Connects and handshakes. Throws std::runtime_error naming the socket and
-  /// the reason (no emulator listening, the emulator's kReject text, timeout).
+  /// Connects and handshakes. Throws ConnectRejected when the emulator refuses
+  /// the hello, else std::runtime_error naming the socket and the reason (no
+  /// emulator listening, timeout, bad welcome).
   const Welcome& connect();
   bool connected() const { return channel_.is_open(); }
   const Welcome& welcome() const { return welcome_; }

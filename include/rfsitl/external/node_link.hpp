@@ -2,8 +2,11 @@
 /// The emulator's connection to one external node. The hub's accept thread
 /// offers admitted connections; the engine side adopts them at a tick boundary
 /// and makes round trips with a timeout. A failed round trip (timeout, peer
-/// gone, wrong reply) drops the connection, logs why and counts it; the node
-/// is silent until its process connects again.
+/// gone, wrong reply), a peer that closes an idle connection, or a new
+/// connection of the same node while the old one is still up drops the old
+/// connection, logs why and counts it (so joins() - drops() is 1 while a
+/// process is connected, else 0); the node is silent until its process
+/// connects again.
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -25,11 +28,23 @@ class NodeLink {
   /// one that is still waiting to be adopted).
   void offer(MessageChannel&& channel, std::string program);
 
-  /// Engine side, at a tick boundary: takes over an offered connection, closing
-  /// the current one. Returns true when the node (re)joined just now.
+  /// Engine side, at a tick boundary: takes over an offered connection. A
+  /// current connection is dropped first (its process restarted or another
+  /// one took the node over) and counted as a drop. Returns true when the node
+  /// (re)joined just now.
   bool adopt();
 
   bool connected() const { return channel_.is_open(); }
+
+  /// Calls of watch_peer() per actual check (a poll() system call).
+  static constexpr std::uint32_t kPeerCheckEvery = 16;
+
+  /// Engine side, at a tick boundary with no round trip in flight: drops the
+  /// connection if its process has closed it (died, exited), which an idle
+  /// link would otherwise notice only at its next round trip. Checks on every
+  /// kPeerCheckEvery-th call, so that it costs little when called every tick.
+  /// Returns false if the link is (now) not connected.
+  bool watch_peer();
 
   /// Engine side: sends one message and waits up to the reply timeout for a
   /// message of type `expect` with the same tick. Returns the reply (valid until
@@ -47,11 +62,16 @@ class NodeLink {
   bool ever_joined() const { return joins() > 0 || offered_.load(std::memory_order_acquire); }
 
  private:
+  // Closes the connection, counts the drop and logs it; `replaced`: a new
+  // connection of the node takes over at once.
+  void count_drop(const std::string& why, bool replaced);
+
   const NodeId id_;
   const int reply_timeout_ms_;
   MessageChannel channel_;  // engine side only
   Message reply_;
   std::string program_;
+  std::uint32_t watch_calls_ = 0;  // engine side only
 
   std::mutex offer_mutex_;
   std::optional<MessageChannel> offered_channel_;

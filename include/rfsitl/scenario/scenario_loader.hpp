@@ -23,8 +23,16 @@ Scenario parse_scenario(std::string_view yaml_text, const std::string& source);
 /// Reads the file and parses it. Throws ScenarioError (also when unreadable).
 Scenario load_scenario_file(const std::string& path);
 
-/// Checks cross-field constraints of a scenario however it was built (also after
-/// command-line overrides). Throws ScenarioError with source "scenario".
+/// Checks cross-field constraints of a scenario however it was built. Throws
+/// ScenarioError with source "scenario".
 void validate_scenario(const Scenario& s);
+
+/// Sets one setting as if the file had said `dotted_key: value` (e.g.
+/// "channel.noise_power_db", "400"), with the file's rules for its type and
+/// range, then validates the whole scenario. Errors read "<source>: <key>:
+/// <reason>" (source: e.g. "--noise-db"). Nodes and traffic cannot be set this
+/// way. Throws ScenarioError; `s` may then be partly changed.
+void apply_setting(Scenario& s, std::string_view dotted_key, std::string_view value,
+                   const std::string& source);
 
 }  // namespace rfsitl::scenario
