@@ -46,7 +46,7 @@ std::function<int()> add_node_command(CLI::App& parent) {
       "One node's transceiver in its own process. Started by `rfsitl run` itself for nodes with "
       "phy.process: child (or --arch split); not meant to be run by hand");
   cmd->add_option("--socket", opts->node.socket_path, "The emulator's external socket")->required();
-  cmd->add_option("--id", opts->id, "Node id")->required()->check(CLI::Range(1, 250));
+  cmd->add_option("--id", opts->id, "Node id")->required()->check(CLI::Range(1, int{kMaxNodeId}));
   cmd->add_option("--connect-timeout", opts->node.connect_timeout_s,
                   "Seconds to keep trying to join (the pause between attempts doubles from "
                   "50 ms to 2 s; a refusal's reason is printed once)")

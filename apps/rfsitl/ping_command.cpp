@@ -307,10 +307,10 @@ std::function<int()> add_ping_command(CLI::App& parent) {
       "ping", "Measure round-trip times between two nodes, acting as both of their agents");
   cmd->add_option("--src", opts->src, "Node A (sends the packets)")
       ->required()
-      ->check(CLI::Range(1, 250));
+      ->check(CLI::Range(1, int{kMaxNodeId}));
   cmd->add_option("--dst", opts->dst, "Node B (answers with acknowledgements)")
       ->required()
-      ->check(CLI::Range(1, 250));
+      ->check(CLI::Range(1, int{kMaxNodeId}));
   cmd->add_option("--count", opts->count, "Packets to send")
       ->check(CLI::Range(1U, 1000000U))
       ->capture_default_str();

@@ -461,8 +461,8 @@ std::function<int()> add_run_command(CLI::App& parent) {
   cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/");
   cmd->add_option(
          "--nodes", opts->nodes,
-         "Nodes in the default formation where every link decodes (1..250; 6 without a scenario)")
-      ->check(CLI::Range(1, 250));
+         "Nodes in the default formation where every link decodes (1..254; 6 without a scenario)")
+      ->check(CLI::Range(1, int{kMaxNodeId}));
   const scenario::Scenario defaults;
   for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
     cmd->add_option(kSettingFlags[i].flag, opts->settings[i], kSettingFlags[i].help)

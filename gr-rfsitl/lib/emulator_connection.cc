@@ -33,7 +33,8 @@ std::shared_ptr<emulator_connection> emulator_connection::get(const std::string&
                                                               int node_id) {
   if (socket_path.empty()) throw std::invalid_argument("rfsitl: empty emulator socket path");
   if (node_id < ::rfsitl::kMinNodeId || node_id > ::rfsitl::kMaxNodeId) {
-    throw std::invalid_argument("rfsitl: node id " + std::to_string(node_id) + " outside 1..250");
+    throw std::invalid_argument("rfsitl: node id " + std::to_string(node_id) + " outside 1.." +
+                                std::to_string(::rfsitl::kMaxNodeId));
   }
   std::lock_guard lock(registry_mutex());
   auto& reg = registry();

@@ -59,7 +59,7 @@ void mix_kernel(const float* const* __restrict xs, const float* __restrict cs, s
   }
 }
 
-// Inputs handed to the kernel per call (the emulator has at most 250 nodes, so
+// Inputs handed to the kernel per call (the emulator has at most 254 nodes, so
 // one group always suffices there); more are summed group by group.
 constexpr std::size_t kMaxGroup = 256;
 

@@ -44,8 +44,8 @@ double choose_spacing(double diagonal_cells, const ChannelConfig& ch, double min
 std::vector<NodeConfig> default_formation(std::size_t n, const ChannelConfig& channel,
                                           double min_snr_db) {
   if (n < kMinNodeId || n > kMaxNodeId) {
-    throw std::invalid_argument("default_formation: node count must be in 1..250, got " +
-                                std::to_string(n));
+    throw std::invalid_argument("default_formation: node count must be in 1.." +
+                                std::to_string(kMaxNodeId) + ", got " + std::to_string(n));
   }
   if (std::isnan(min_snr_db)) throw std::invalid_argument("default_formation: min_snr_db is NaN");
   const auto cols = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(n))));

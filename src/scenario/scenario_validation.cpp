@@ -137,7 +137,8 @@ void check_phy(const Context& c, const PhyConfig& p, const std::string& key) {
 
 void validate(const Scenario& s, const Context& c) {
   if (s.nodes.empty() || s.nodes.size() > kMaxNodeId) {
-    c.fail("nodes", "must list 1..250 nodes, got " + std::to_string(s.nodes.size()));
+    c.fail("nodes", "must list 1.." + std::to_string(kMaxNodeId) + " nodes, got " +
+                        std::to_string(s.nodes.size()));
   }
   Listed listed{};
   std::array<std::size_t, 256> first{};  // index of the first node with each id

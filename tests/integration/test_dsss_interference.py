@@ -40,7 +40,11 @@ class InterferenceAvoidanceTest(unittest.TestCase):
         nodes = {1: (-10, 0, 10), 2: (0, 0, 10), 3: (0, -10, 10), 4: (0, -2, 10),
                  5: (4, -1, 10), 6: (40, 40, 10)}
         phys = {1: fixed, 2: fixed, 3: adaptive, 4: adaptive, 5: jammer, 6: fixed}
-        with Emulator(nodes, TRAFFIC, node_phy=phys, args=["--no-dashboard"]) as emu:
+        # One thread: on a loaded machine every hand-over between worker threads
+        # waits for the scheduler, 40 000 ticks times a few phases (220 s
+        # instead of 5 s under stress-ng --cpu 6 with two workers).
+        with Emulator(nodes, TRAFFIC, node_phy=phys,
+                      args=["--no-dashboard", "--threads", "1"]) as emu:
             emu.proc.wait(600)
             summary = emu.stop()
         jam = emu.node(5)

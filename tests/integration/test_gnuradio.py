@@ -11,7 +11,8 @@ import subprocess
 import time
 import unittest
 
-from harness import Emulator, GnuRadioNode, NetClient, assert_accounted, wait_for_output
+from harness import (LOAD_TOLERANT, Emulator, GnuRadioNode, NetClient, assert_accounted,
+                     wait_for_output)
 
 
 def gr_available():
@@ -54,7 +55,7 @@ class GnuRadioNodesTest(unittest.TestCase):
 
     def start(self, nodes, node_phy, gr_ids):
         emu = Emulator(nodes, node_phy=node_phy, ready_marker="waiting up to",
-                       args=["--external-timeout", "2"])
+                       args=["--external-timeout", "2", *LOAD_TOLERANT])
         emu.__enter__()
         self.addCleanup(emu.__exit__, None, None, None)
         grs = {}

@@ -43,7 +43,7 @@ double shortest_link_m(const std::vector<NodeConfig>& nodes) {
 }
 
 TEST(DefaultFormation, NodesHaveUniqueIdsOneToNAtTenMetres) {
-  for (const std::size_t n : {1U, 2U, 6U, 15U, 64U, 250U}) {
+  for (const std::size_t n : {1U, 2U, 6U, 15U, 64U, 254U}) {
     const auto nodes = default_formation(n, ChannelConfig{});
     ASSERT_EQ(nodes.size(), n);
     std::set<int> ids;
@@ -99,9 +99,10 @@ TEST(DefaultFormation, NoiselessChannelUsesTenMetres) {
   EXPECT_DOUBLE_EQ(shortest_link_m(default_formation(6, noiseless, 60.0)), 10.0);
 }
 
-TEST(DefaultFormation, RejectsNodeCountsOutsideOneTo250) {
+TEST(DefaultFormation, RejectsNodeCountsOutsideOneTo254) {
   EXPECT_THROW(default_formation(0, ChannelConfig{}), std::invalid_argument);
-  EXPECT_THROW(default_formation(251, ChannelConfig{}), std::invalid_argument);
+  EXPECT_NO_THROW(default_formation(254, ChannelConfig{}));
+  EXPECT_THROW(default_formation(255, ChannelConfig{}), std::invalid_argument);
 }
 
 }  // namespace

@@ -216,7 +216,7 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
       {"nodes: [{id: 1}]\ntime:\n  speed: -1\n", "t.yaml:3: time.speed: must be > 0, got -1"},
       {"nodes: [{id: 1}]\ntime:\n  mode: fast\n",
        "t.yaml:3: time.mode: unknown 'fast' (known: realtime, virtual)"},
-      {"nodes:\n  - id: 1\n  - id: 251\n", "t.yaml:3: nodes[1].id: must be in 1..250, got 251"},
+      {"nodes:\n  - id: 1\n  - id: 255\n", "t.yaml:3: nodes[1].id: must be in 1..254, got 255"},
       {"nodes:\n  - position: {x: 0, y: 0}\n", "t.yaml:2: nodes[0].id: required"},
       {"nodes:\n  - id: 1\n    position:\n      lat: 91\n      lon: 0\n",
        "t.yaml:4: nodes[0].position.lat: must be in [-90, 90], got 91"},
@@ -224,7 +224,7 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
        "t.yaml:3: nodes[0].position: expected 'lat lon alt' (three numbers), got '43 -78'"},
       {"nodes:\n  - id: 1\n    position: {lat: 43, lon: -78, x: 1}\n",
        "t.yaml:3: nodes[0].position: mixes lat/lon/alt with x/y/z; use one form"},
-      {"nodes: []\n", "t.yaml:1: nodes: must list 1..250 nodes, got 0"},
+      {"nodes: []\n", "t.yaml:1: nodes: must list 1..254 nodes, got 0"},
       {"name: x\n", "t.yaml:1: nodes: required"},
       {"nodes: [{id: 1}]\nphy:\n  type: lora\n",
        "t.yaml:3: phy.type: unknown 'lora' (known: dsss, gmsk, gmsk-liquid, ofdm, external)"},
@@ -342,11 +342,11 @@ TEST(ValidateScenario, AcceptsAStructBuiltScenario) {
 
 TEST(ValidateScenario, ReportsWithSourceScenarioAndNoLine) {
   Scenario s;
-  EXPECT_EQ(validation_error_of(s), "scenario: nodes: must list 1..250 nodes, got 0");
+  EXPECT_EQ(validation_error_of(s), "scenario: nodes: must list 1..254 nodes, got 0");
   s.nodes = {{4, std::nullopt, std::nullopt}, {4, std::nullopt, std::nullopt}};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[1].id: duplicate id 4 (also nodes[0].id)");
   s.nodes = {{0, std::nullopt, std::nullopt}};
-  EXPECT_EQ(validation_error_of(s), "scenario: nodes[0].id: must be in 1..250, got 0");
+  EXPECT_EQ(validation_error_of(s), "scenario: nodes[0].id: must be in 1..254, got 0");
   s.nodes = {{1, std::nullopt, std::nullopt}};
   s.phy.bandwidth_time = 1.0F;
   EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: must be in (0, 1), got 1");

@@ -210,7 +210,7 @@ class qa_emulator_source(gr_unittest.TestCase):
         with self.assertRaises(ValueError):
             rfsitl.emulator_source(self.path, 0)
         with self.assertRaises(ValueError):
-            rfsitl.emulator_source(self.path, 251)
+            rfsitl.emulator_source(self.path, 255)
         with self.assertRaises(ValueError):
             rfsitl.emulator_source("", 1)
         keep = rfsitl.emulator_source(self.path, 5)

@@ -32,7 +32,7 @@ class RFSITL_API emulator_sink : virtual public gr::sync_block {
   using sptr = std::shared_ptr<emulator_sink>;
 
   /// \param socket_path  the emulator's external-node socket
-  /// \param node_id      this node's id, 1..250
+  /// \param node_id      this node's id, 1..254
   /// \param len_tag_key  burst length tag key; empty: plain stream
   /// \param max_buffer_s buffer bound in seconds of samples
   static sptr make(const std::string& socket_path, int node_id, const std::string& len_tag_key = "",

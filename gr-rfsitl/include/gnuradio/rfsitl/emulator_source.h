@@ -40,7 +40,7 @@ class RFSITL_API emulator_source : virtual public gr::sync_block {
   using sptr = std::shared_ptr<emulator_source>;
 
   /// \param socket_path the emulator's external-node socket
-  /// \param node_id     this node's id, 1..250
+  /// \param node_id     this node's id, 1..254
   /// \param timeout_ms  tick silence (once ticking) after which the node rejoins
   /// \param reconnect_ms how long to keep trying to (re)connect before ending
   static sptr make(const std::string& socket_path, int node_id, int timeout_ms = 2000,
