@@ -19,23 +19,7 @@ PACKAGES=(
 # Debian packages npm separately from nodejs; other nodejs builds bring their own.
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
 
-missing=()
-for p in "${PACKAGES[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "setup: all ${#PACKAGES[@]} packages present"
-else
-  echo "setup: installing ${missing[*]}"
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  # tshark asks whether non-root users may capture; the answer does not matter here.
-  echo "wireshark-common wireshark-common/install-setuid boolean false" |
-    $SUDO debconf-set-selections
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+bash "$(dirname "$0")/apt_install.sh" setup "${PACKAGES[@]}"
 # Our GNU Radio blocks (gr-rfsitl/), installed into /usr/local so that any
 # flowgraph can use them; returns at once when they are up to date.
 bash "$(dirname "$0")/build_gr.sh"

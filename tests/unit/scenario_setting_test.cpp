@@ -7,6 +7,7 @@
 #include <string>
 
 #include "rfsitl/scenario/scenario_loader.hpp"
+#include "scenario_errors.hpp"
 
 namespace rfsitl::scenario {
 namespace {
@@ -28,13 +29,7 @@ std::string setting_error(const std::string& key, const std::string& value,
 }
 
 std::string file_error(const std::string& yaml) {
-  try {
-    parse_scenario(yaml, "t.yaml");
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "accepted:\n" << yaml;
-  return {};
+  return parse_error_of(yaml);
 }
 
 TEST(ScenarioSetting, ValuesSetWhatTheFileWouldSet) {
