@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up, builds (sanitizers on) and runs every test: unit, integration (the
 # real emulator over loopback, GNU Radio nodes included) and the dashboard in
-# headless Chromium. Extra arguments go to ctest (e.g. -L unit, -R gnuradio).
+# headless Chromium; then a short libFuzzer run of every parser (scripts/fuzz.sh).
+# Extra arguments go to ctest (e.g. -L unit, -R gnuradio).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -12,3 +13,6 @@ bash scripts/build_gr.sh --test
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 ctest --test-dir build/asan --output-on-failure -j "$(nproc)" "$@"
+# Every parser of outside input under libFuzzer (clang, ASan + UBSan) for a few
+# seconds each, after replaying every crash found so far (fuzz/README.md).
+bash scripts/fuzz.sh 5

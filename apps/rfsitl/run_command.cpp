@@ -26,6 +26,7 @@
 #include "rfsitl/io/bind_address.hpp"
 #include "rfsitl/io/node_servers.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
+#include "rfsitl/monitor/json_text.hpp"
 #include "rfsitl/monitor/pcap_trace.hpp"
 #include "rfsitl/monitor/sigmf_recorder.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
@@ -441,7 +442,7 @@ int run(const RunOptions& o) {
   if (summary_out.is_open()) {
     nlohmann::json j = monitor::stats_json(s, *engine);
     if (external) j["external"] = external->summary();
-    summary_out << j.dump(2) << "\n";
+    summary_out << monitor::json_text(j, 2) << "\n";
     summary_out.flush();
     if (!summary_out) {
       std::fprintf(stderr, "rfsitl run: cannot write %s\n", o.summary_json.c_str());

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "rfsitl/common/position_limits.hpp"
+
 namespace rfsitl::io {
 namespace {
 
@@ -22,11 +24,6 @@ struct BadLine {
   throw BadLine{std::move(reason)};
 }
 
-constexpr double kMaxLatDeg = 90.0;
-constexpr double kMaxLonDeg = 180.0;
-constexpr double kMinAltM = -1000.0;
-constexpr double kMaxAltM = 100000.0;
-
 bool is_space(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
 }
@@ -35,18 +32,6 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
   while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
   return s;
-}
-
-// Shortest text that reads back as the same double, so messages quote the value
-// exactly as it was understood ("91.5", not "91.500000"); plain notation for the
-// magnitudes a position can have, so a limit reads "100000", not "1e+05".
-std::string format_number(double v) {
-  char buf[64];
-  const double mag = std::fabs(v);
-  const bool plain = v == 0.0 || (mag >= 1e-4 && mag < 1e15);
-  const auto res = plain ? std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed)
-                         : std::to_chars(buf, buf + sizeof(buf), v);
-  return std::string(buf, res.ptr);
 }
 
 // Parses a whole token as a decimal number; nullopt if any character is left over.
@@ -59,25 +44,15 @@ std::optional<double> to_double(std::string_view s) {
   return v;
 }
 
-void check_finite(const char* name, double v) {
-  if (!std::isfinite(v)) {
-    fail(std::string(name) + " is not a finite number (" + format_number(v) + ")");
-  }
-}
-
-void check_range(const char* name, double v, double lo, double hi) {
-  check_finite(name, v);
-  if (v < lo || v > hi) {
-    fail(std::string(name) + " " + format_number(v) + " out of range [" + format_number(lo) + ", " +
-         format_number(hi) + "]");
-  }
+// The limits are the shared ones (rfsitl/common/position_limits.hpp), so the
+// dashboard and scenario files refuse exactly what this port refuses.
+Position checked(const Position& p) {
+  if (std::string why = position_error(p); !why.empty()) fail(std::move(why));
+  return p;
 }
 
 GeodeticPosition checked_geodetic(double lat, double lon, double alt) {
-  check_range("latitude", lat, -kMaxLatDeg, kMaxLatDeg);
-  check_range("longitude", lon, -kMaxLonDeg, kMaxLonDeg);
-  check_range("altitude", alt, kMinAltM, kMaxAltM);
-  return {lat, lon, alt};
+  return std::get<GeodeticPosition>(checked(GeodeticPosition{lat, lon, alt}));
 }
 
 // ---- "lat lon alt" ---------------------------------------------------------------
@@ -154,11 +129,8 @@ Position parse_json(std::string_view line) {
     const double x = json_number(obj, "x", std::nullopt);
     const double y = json_number(obj, "y", std::nullopt);
     const double z = json_number(obj, "z", 0.0);
-    check_finite("x", x);
-    check_finite("y", y);
     // z is height above the scenario origin; the altitude bounds apply to it too.
-    check_range("z", z, kMinAltM, kMaxAltM);
-    return LocalPosition{x, y, z};
+    return checked(LocalPosition{x, y, z});
   }
   fail("JSON object has neither lat/lon/alt nor x/y/z keys");
 }
@@ -203,7 +175,7 @@ double nmea_angle(std::string_view value, std::string_view hemisphere, const cha
   const double degrees = *to_double(int_part.substr(0, deg_digits));
   const double minutes = *to_double(value.substr(deg_digits));
   if (minutes >= 60.0) {
-    fail(std::string("NMEA GGA ") + name + " minutes " + format_number(minutes) +
+    fail(std::string("NMEA GGA ") + name + " minutes " + format_coordinate(minutes) +
          " out of range [0, 60)");
   }
   double deg = degrees + minutes / 60.0;

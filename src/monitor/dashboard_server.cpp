@@ -17,7 +17,11 @@
 
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
+#include "rfsitl/monitor/json_text.hpp"
+#include "rfsitl/monitor/position_request.hpp"
+#include "rfsitl/monitor/request_checks.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
+#include "rfsitl/monitor/viewer_queue.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 #include "web_assets.hpp"
 
@@ -31,23 +35,24 @@ namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 using Json = nlohmann::json;
 
-/// A viewer that cannot keep up loses snapshots rather than growing a backlog.
-constexpr std::size_t kMaxQueuedMessages = 8;
+/// Requests and viewer messages (a watch or a move is a few dozen bytes).
 constexpr std::size_t kMaxRequestBytes = 64 * 1024;
-/// Positions a viewer may set: a thousand kilometres around the origin.
-constexpr double kMaxCoordinateM = 1e6;
 
 class Server;
-
-bool same_origin(const http::request<http::string_body>& req);
 
 class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
  public:
   ViewerSession(tcp::socket socket, Server& server) : ws_(std::move(socket)), server_(server) {}
   void start(http::request<http::string_body> request);
-  /// Queues a message. A viewer that cannot keep up loses periodic messages
-  /// (snapshots, spectra: the next one replaces them), never the others.
-  void send(std::shared_ptr<const std::string> message, bool periodic = false);
+  /// Queues a message. A viewer that cannot keep up loses the oldest ones
+  /// (a snapshot or spectrum is replaced by the next), so its queue stays
+  /// bounded (ViewerQueue).
+  void send(OutgoingMessage message);
+  void send_event(std::string text) {
+    send({std::make_shared<const std::string>(std::move(text)), MessageKind::kEvent});
+  }
+  /// A snapshot this viewer lost carried the link matrix: its next must too.
+  bool take_lost_snr() { return queue_.take_lost_snr(); }
   std::optional<std::size_t> watching() const { return watching_; }
   SampleTime last_constellation = -1;
   void close();
@@ -61,9 +66,10 @@ class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
   websocket::stream<beast::tcp_stream> ws_;
   Server& server_;
   beast::flat_buffer buffer_;
-  std::deque<std::shared_ptr<const std::string>> queue_;
+  ViewerQueue queue_;
   std::optional<std::size_t> watching_;
   bool finished_ = false;
+  bool warned_ = false;  // about dropped messages, once per viewer
 };
 
 class Server final : public Dashboard {
@@ -100,6 +106,8 @@ class Server final : public Dashboard {
   }
   std::uint16_t port() const override { return port_; }
   std::size_t viewers() const override { return viewer_count_.load(); }
+  std::uint64_t messages_dropped() const override { return dropped_.load(); }
+  std::size_t peak_send_queue() const override { return peak_queue_.load(); }
 
   // ---- called on the I/O thread by sessions --------------------------------------
   void add_viewer(const std::shared_ptr<ViewerSession>& v) {
@@ -111,11 +119,20 @@ class Server final : public Dashboard {
                   {"sample_rate_hz", scenario_.timing.sample_rate_hz},
                   {"spectrum_bins", LiveView::kSpectrumBins},
                   {"node_ids", engine_.node_ids()}};
-    v->send(std::make_shared<const std::string>(hello.dump()));
+    v->send({std::make_shared<const std::string>(json_text(hello)), MessageKind::kEssential});
     // A new viewer needs the link matrix, which later snapshots carry only
     // when something moved.
-    v->send(std::make_shared<const std::string>(
-        snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump()));
+    v->send({std::make_shared<const std::string>(json_text(
+                 snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control))),
+             MessageKind::kSnapshot, true});
+  }
+
+  /// A viewer's queue dropped `n` messages and has held up to `peak`.
+  void note_queue(std::uint64_t n, std::size_t peak) {
+    dropped_.fetch_add(n);
+    std::size_t old = peak_queue_.load();
+    while (old < peak && !peak_queue_.compare_exchange_weak(old, peak)) {
+    }
   }
 
   void remove_viewer(ViewerSession* v) {
@@ -135,50 +152,80 @@ class Server final : public Dashboard {
     return engine_.index_of(static_cast<NodeId>(id.get<unsigned>()));
   }
 
-  /// Moves a node as a location feed would; returns an error text or "". A
-  /// position without altitude (z or alt) keeps the node's current one.
+  /// Moves a node as a location feed would, within the same limits; returns an
+  /// error text of our own or "". A position without altitude (z or alt)
+  /// keeps the node's current one.
   std::string move_node(std::size_t index, const Json& where) {
     if (!settings_.control) {
       return "control is off: start the emulator with --dashboard-control to move nodes";
     }
-    try {
-      const auto current = engine_.positions().at(index);
-      Position p;
-      if (where.contains("lat")) {
-        const double alt = where.contains("alt") ? where.at("alt").get<double>()
-                           : current             ? channel::ecef_to_geodetic(*current).alt_m
-                                                 : 0.0;
-        const GeodeticPosition g{where.at("lat").get<double>(), where.at("lon").get<double>(), alt};
-        if (!(std::abs(g.lat_deg) <= 90.0 && std::abs(g.lon_deg) <= 180.0 &&
-              std::abs(g.alt_m) <= kMaxCoordinateM)) {
-          return "position out of range (lat within +-90, lon within +-180, |alt| <= 1e6 m)";
-        }
-        p = g;
-      } else {
-        const double z = where.contains("z") ? where.at("z").get<double>()
-                         : current ? channel::ecef_to_local(*current, scenario_.channel.origin).z_m
-                                   : 0.0;
-        const LocalPosition l{where.at("x").get<double>(), where.at("y").get<double>(), z};
-        if (!(std::abs(l.x_m) <= kMaxCoordinateM && std::abs(l.y_m) <= kMaxCoordinateM &&
-              std::abs(l.z_m) <= kMaxCoordinateM)) {
-          return "position out of range (|x|, |y|, |z| <= 1e6 m)";
-        }
-        p = l;
-      }
-      engine_.set_position(index, channel::to_ecef(p, scenario_.channel.origin));
-      spdlog::info("dashboard: node {} moved by a viewer", engine_.node_ids()[index]);
-      return "";
-    } catch (const Json::exception& e) {
-      return std::string("bad position: ") + e.what();
+    // Before the engine's first tick it has no positions yet: the scenario's.
+    const auto positions = engine_.positions();
+    std::optional<Ecef> current;
+    if (index < positions.size()) {
+      current = positions[index];
+    } else if (const auto& initial = scenario_.nodes.at(index).initial_position) {
+      current = channel::to_ecef(*initial, scenario_.channel.origin);
     }
+    const double z = current ? channel::ecef_to_local(*current, scenario_.channel.origin).z_m : 0.0;
+    const double alt = current ? channel::ecef_to_geodetic(*current).alt_m : 0.0;
+    const PositionRequest r = read_position_request(where, z, alt);
+    if (!r.position) return "bad position: " + r.error;
+    engine_.set_position(index, channel::to_ecef(*r.position, scenario_.channel.origin));
+    spdlog::info("dashboard: node {} moved by a viewer", engine_.node_ids()[index]);
+    return "";
+  }
+
+  /// Why `req` must be refused ("" to serve it) and with which status: a Host
+  /// that is not this server (DNS rebinding) or another site's Origin.
+  std::string refusal(const http::request<http::string_body>& req, http::status& status) const {
+    const auto header = [&](http::field f) -> std::optional<std::string_view> {
+      const auto it = req.find(f);
+      if (it == req.end()) return std::nullopt;
+      return std::string_view(it->value().data(), it->value().size());
+    };
+    bool misdirected = false;
+    std::string why = request_refusal(header(http::field::host), header(http::field::origin),
+                                      settings_.bind_address, port_, misdirected);
+    status = misdirected ? http::status::misdirected_request : http::status::forbidden;
+    return why;
   }
 
   http::response<http::string_body> handle(const http::request<http::string_body>& req);
 
+  /// {"error": message} with `status`.
+  static http::response<http::string_body> error_response(
+      const http::request<http::string_body>& req, http::status status,
+      const std::string& message) {
+    http::response<http::string_body> res{status, req.version()};
+    res.keep_alive(req.keep_alive());
+    res.set(http::field::server, "rfsitl");
+    res.set(http::field::cache_control, "no-store");
+    res.set(http::field::content_type, "application/json");
+    res.body() = json_text(Json{{"error", message}});
+    res.prepare_payload();
+    return res;
+  }
+
+  /// The dashboard's own numbers, appended to /metrics.
+  std::string dashboard_metrics() const {
+    return "# HELP rfsitl_dashboard_viewers Dashboard viewers connected now.\n"
+           "# TYPE rfsitl_dashboard_viewers gauge\n"
+           "rfsitl_dashboard_viewers " +
+           std::to_string(viewers()) +
+           "\n# HELP rfsitl_dashboard_messages_dropped_total Messages not sent to viewers that "
+           "did not keep up (replaced by newer ones or dropped to bound their queues).\n"
+           "# TYPE rfsitl_dashboard_messages_dropped_total counter\n"
+           "rfsitl_dashboard_messages_dropped_total " +
+           std::to_string(messages_dropped()) + "\n";
+  }
+
  private:
   void listen() {
     boost::system::error_code ec;
-    const auto address = asio::ip::make_address(settings_.bind_address, ec);
+    // "localhost" is a valid bind address for the other ports too.
+    const auto address = asio::ip::make_address(
+        settings_.bind_address == "localhost" ? "127.0.0.1" : settings_.bind_address, ec);
     if (ec) {
       throw std::runtime_error("dashboard: bad bind address '" + settings_.bind_address +
                                "': " + ec.message());
@@ -230,7 +277,8 @@ class Server final : public Dashboard {
   std::uint16_t port_ = 0;
   std::vector<std::weak_ptr<ViewerSession>> viewers_;
   std::atomic<std::size_t> viewer_count_{0};
-  std::shared_ptr<const std::string> latest_;
+  std::atomic<std::uint64_t> dropped_{0};
+  std::atomic<std::size_t> peak_queue_{0};
   std::vector<float> last_gains_;  // as of the latest snapshot pushed
   std::thread thread_;
 };
@@ -258,12 +306,22 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return;
     }
     auto req = parser_->release();
-    if (websocket::is_upgrade(req) && req.target() == "/ws" && same_origin(req)) {
+    http::status status{};
+    if (const std::string why = server_.refusal(req, status); !why.empty()) {
+      spdlog::warn("dashboard: {} {} refused: {}", std::string(req.method_string()),
+                   std::string(req.target()), why);
+      return respond(Server::error_response(req, status, why));
+    }
+    if (websocket::is_upgrade(req) && req.target() == "/ws") {
       stream_.expires_never();
       std::make_shared<ViewerSession>(stream_.release_socket(), server_)->start(std::move(req));
       return;
     }
-    auto res = std::make_shared<http::response<http::string_body>>(server_.handle(req));
+    respond(server_.handle(req));
+  }
+
+  void respond(http::response<http::string_body> response) {
+    auto res = std::make_shared<http::response<http::string_body>>(std::move(response));
     http::async_write(stream_, *res,
                       [self = shared_from_this(), res](beast::error_code wec, std::size_t) {
                         if (!wec && res->keep_alive()) self->read();
@@ -284,16 +342,6 @@ void Server::accept() {
   });
 }
 
-/// A request from another web site open in the user's browser carries that
-/// site's Origin; only the dashboard's own page (or a client without Origin,
-/// such as curl or a script) may watch and steer.
-bool same_origin(const http::request<http::string_body>& req) {
-  const auto origin = req.find(http::field::origin);
-  if (origin == req.end()) return true;
-  const auto host = req.find(http::field::host);
-  return host != req.end() && origin->value() == "http://" + std::string(host->value());
-}
-
 http::response<http::string_body> Server::handle(const http::request<http::string_body>& req) {
   http::response<http::string_body> res;
   res.version(req.version());
@@ -308,7 +356,7 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
     return res;
   };
   const auto error = [&](http::status status, const std::string& message) {
-    return reply(status, "application/json", Json{{"error", message}}.dump());
+    return error_response(req, status, message);
   };
   std::string target(req.target());
   if (const auto q = target.find('?'); q != std::string::npos) target.resize(q);
@@ -318,20 +366,20 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
       if (a.path == target) return reply(http::status::ok, a.content_type, std::string(a.body));
     }
     if (target == "/api/stats") {
-      return reply(http::status::ok, "application/json", stats_json(scenario_, engine_).dump());
+      return reply(http::status::ok, "application/json", json_text(stats_json(scenario_, engine_)));
     }
     if (target == "/api/snapshot") {
       return reply(
           http::status::ok, "application/json",
-          snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control).dump());
+          json_text(snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control)));
     }
     if (target == "/metrics") {
       return reply(http::status::ok, "text/plain; version=0.0.4",
-                   prometheus_text(scenario_, engine_));
+                   prometheus_text(scenario_, engine_) + dashboard_metrics());
     }
     return error(http::status::not_found, "no such page: " + target);
   }
-  if (!same_origin(req)) return error(http::status::forbidden, "cross-origin request refused");
+  // Host and Origin were checked before (HttpSession::on_read).
   static constexpr std::string_view kPrefix = "/api/nodes/";
   static constexpr std::string_view kSuffix = "/position";
   if (req.method() == http::verb::post && target.starts_with(kPrefix) &&
@@ -349,12 +397,16 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
     const auto index = node_index(Json(id));
     if (!index) return error(http::status::not_found, "no node " + id_text);
     const Json body = Json::parse(req.body(), nullptr, false);
-    if (body.is_discarded()) return error(http::status::bad_request, "body is not JSON");
+    if (body.is_discarded()) {
+      return error(http::status::bad_request,
+                   "body is not JSON: expected {\"x\":..,\"y\":..,\"z\":..} or "
+                   "{\"lat\":..,\"lon\":..,\"alt\":..}");
+    }
     const std::string why = move_node(*index, body);
     if (!why.empty()) {
       return error(settings_.control ? http::status::bad_request : http::status::forbidden, why);
     }
-    return reply(http::status::ok, "application/json", Json{{"ok", true}}.dump());
+    return reply(http::status::ok, "application/json", json_text(Json{{"ok", true}}));
   }
   return error(http::status::method_not_allowed, "unsupported request");
 }
@@ -366,14 +418,24 @@ void Server::push() {
   auto gains = engine_.link_gains();
   const bool moved = gains != last_gains_;
   last_gains_ = std::move(gains);
-  latest_ = std::make_shared<const std::string>(
-      snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control, moved).dump());
+  const auto snapshot = [&](bool with_snr) {
+    return std::make_shared<const std::string>(json_text(
+        snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control, with_snr)));
+  };
+  const auto latest = snapshot(moved);
+  std::shared_ptr<const std::string> with_snr = moved ? latest : nullptr;
   std::map<std::size_t, std::shared_ptr<const std::string>> spectra;
   const double virtual_s = engine_.status().virtual_s;
   for (const auto& w : viewers_) {
     const auto v = w.lock();
     if (!v) continue;
-    v->send(latest_, true);
+    // A viewer that lost a snapshot with the link matrix gets it again.
+    if (v->take_lost_snr()) {
+      if (!with_snr) with_snr = snapshot(true);
+      v->send({with_snr, MessageKind::kSnapshot, true});
+    } else {
+      v->send({latest, MessageKind::kSnapshot, moved});
+    }
     const auto node = v->watching();
     if (!node) continue;
     auto& spectrum = spectra[*node];
@@ -389,7 +451,7 @@ void Server::push() {
           {"sample_rate_hz", scenario_.timing.sample_rate_hz},
           {"bins_db", bins}}.dump());
     }
-    v->send(spectrum, true);
+    v->send({spectrum, MessageKind::kSpectrum});
     const auto c = view_.constellation(*node);
     if (c && c->time != v->last_constellation) {
       v->last_constellation = c->time;
@@ -398,7 +460,7 @@ void Server::push() {
         points.push_back(
             {std::round(p.real() * 1000.0F) / 1000.0F, std::round(p.imag() * 1000.0F) / 1000.0F});
       }
-      v->send(std::make_shared<const std::string>(Json{
+      v->send_event(Json{
           {"type", "constellation"},
           {"node", engine_.node_ids()[*node]},
           {"virtual_s", static_cast<double>(c->time) / scenario_.timing.sample_rate_hz},
@@ -406,7 +468,8 @@ void Server::push() {
           {"dst", c->dst},
           {"serial", c->serial},
           {"valid", c->payload_valid},
-          {"points", points}}.dump()));
+          {"points",
+           points}}.dump());
     }
   }
 }
@@ -416,6 +479,7 @@ void Server::push() {
 void ViewerSession::start(http::request<http::string_body> request) {
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
   ws_.auto_fragment(false);  // one frame per message: fewer writes for big snapshots
+  ws_.read_message_max(kMaxRequestBytes);
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
     if (ec) return;
     // One I/O thread runs every session and the server: no locking needed.
@@ -437,7 +501,7 @@ void ViewerSession::read() {
 void ViewerSession::on_message(const std::string& text) {
   const Json m = Json::parse(text, nullptr, false);
   const auto reply_error = [this](const std::string& why) {
-    send(std::make_shared<const std::string>(Json{{"type", "error"}, {"message", why}}.dump()));
+    send_event(json_text(Json{{"type", "error"}, {"message", why}}));
   };
   if (m.is_discarded() || !m.is_object() || !m.contains("type")) {
     return reply_error("messages are JSON objects with a \"type\"");
@@ -459,16 +523,28 @@ void ViewerSession::on_message(const std::string& text) {
   }
 }
 
-void ViewerSession::send(std::shared_ptr<const std::string> message, bool periodic) {
-  if (finished_ || (periodic && queue_.size() >= kMaxQueuedMessages)) return;
-  queue_.push_back(std::move(message));
-  if (queue_.size() == 1) write_next();
+void ViewerSession::send(OutgoingMessage message) {
+  if (finished_) return;
+  const std::size_t dropped = queue_.push(std::move(message));
+  server_.note_queue(dropped, queue_.peak());
+  if (dropped > 0 && !warned_) {
+    warned_ = true;
+    beast::error_code ec;
+    const auto peer = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+    spdlog::warn(
+        "dashboard: viewer {}:{} is not reading its messages; dropping the oldest to keep at most "
+        "{} queued (counted in rfsitl_dashboard_messages_dropped_total)",
+        ec ? std::string("?") : peer.address().to_string(), ec ? 0 : peer.port(),
+        ViewerQueue::kCapacity);
+  }
+  if (!queue_.writing()) write_next();
 }
 
 void ViewerSession::write_next() {
   ws_.text(true);
-  ws_.async_write(asio::buffer(*queue_.front()),
-                  [self = shared_from_this()](beast::error_code ec, std::size_t) {
+  const auto text = queue_.start_front().text;  // kept alive until the write completes
+  ws_.async_write(asio::buffer(*text),
+                  [self = shared_from_this(), text](beast::error_code ec, std::size_t) {
                     if (ec) return self->finish();
                     self->queue_.pop_front();
                     if (!self->queue_.empty()) self->write_next();

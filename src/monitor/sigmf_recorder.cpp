@@ -1,5 +1,7 @@
 #include "rfsitl/monitor/sigmf_recorder.hpp"
 
+#include "rfsitl/monitor/json_text.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -229,7 +231,7 @@ class SigmfRecorderImpl final : public SigmfRecorder {
       }
       try {
         std::ofstream out(c.meta_path, std::ios::trunc);
-        out << meta_of(c).dump(2) << '\n';
+        out << json_text(meta_of(c), 2) << '\n';
         out.close();
         if (!out) spdlog::error("sigmf: cannot write {}", c.meta_path);
       } catch (const std::exception& ex) {

@@ -1,5 +1,6 @@
 #include "rfsitl/monitor/stats_report.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -103,55 +104,130 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
   return j;
 }
 
+std::string prometheus_label_value(std::string_view v) {
+  std::string out;
+  out.reserve(v.size());
+  for (const char ch : v) {
+    if (ch == '\\') {
+      out += "\\\\";
+    } else if (ch == '"') {
+      out += "\\\"";
+    } else if (ch == '\n') {
+      out += "\\n";
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
+std::string prometheus_help_text(std::string_view v) {
+  std::string out;
+  out.reserve(v.size());
+  for (const char ch : v) {
+    if (ch == '\\') {
+      out += "\\\\";
+    } else if (ch == '\n') {
+      out += "\\n";
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+/// The shortest text that reads back as `v` (a stream's default 6 digits
+/// would print a day of virtual time as 86400 but a month as 2.592e+06).
+std::string number(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "+Inf" : "-Inf";
+  char buf[32];
+  return {buf, std::to_chars(buf, buf + sizeof(buf), v).ptr};
+}
+
+}  // namespace
+
 std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e) {
   std::ostringstream o;
-  const auto family = [&o](const char* name, const char* type, const char* help) {
-    o << "# HELP " << name << ' ' << help << "\n# TYPE " << name << ' ' << type << '\n';
+  const auto family = [&o](std::string_view name, std::string_view type, std::string_view help) {
+    o << "# HELP " << name << ' ' << prometheus_help_text(help) << "\n# TYPE " << name << ' '
+      << type << '\n';
   };
   const engine::EngineStatus st = e.status();
   family("rfsitl_virtual_seconds", "gauge", "Virtual time emulated so far.");
-  o << "rfsitl_virtual_seconds " << st.virtual_s << '\n';
+  o << "rfsitl_virtual_seconds " << number(st.virtual_s) << '\n';
+  family("rfsitl_wall_seconds", "gauge", "Wall-clock time since the run started.");
+  o << "rfsitl_wall_seconds " << number(st.wall_s) << '\n';
   family("rfsitl_realtime_lag_seconds", "gauge", "How late the latest tick started (real time).");
-  o << "rfsitl_realtime_lag_seconds " << st.lag_s << '\n';
+  o << "rfsitl_realtime_lag_seconds " << number(st.lag_s) << '\n';
   family("rfsitl_realtime_lag_max_seconds", "gauge", "Worst real-time lag so far.");
-  o << "rfsitl_realtime_lag_max_seconds " << st.max_lag_s << '\n';
+  o << "rfsitl_realtime_lag_max_seconds " << number(st.max_lag_s) << '\n';
   family("rfsitl_late_ticks_total", "counter", "Ticks started more than a tick late.");
   o << "rfsitl_late_ticks_total " << st.late_ticks << '\n';
+  family("rfsitl_late_decodes_total", "counter",
+         "Decodes after their verdict was due (not delivered).");
+  o << "rfsitl_late_decodes_total " << st.late_decodes << '\n';
   family("rfsitl_receiver_ticks_total", "counter", "Receiver-ticks by what happened to them.");
   o << "rfsitl_receiver_ticks_total{state=\"run\"} " << st.receiver_ticks_run << '\n'
     << "rfsitl_receiver_ticks_total{state=\"skipped\"} " << st.receiver_ticks_skipped << '\n'
     << "rfsitl_receiver_ticks_total{state=\"blanked\"} " << st.receiver_ticks_blanked << '\n';
   std::vector<engine::NodeCountersSnapshot> c;
   for (std::size_t i = 0; i < e.num_nodes(); ++i) c.push_back(e.counters(i).snapshot());
+  const auto node_label = [&](std::size_t i) {
+    return "node=\"" + std::to_string(unsigned{e.node_ids()[i]}) + "\"";
+  };
+  // Every per-node number of stats_json (node_json above), under the same meaning.
   const auto per_node = [&](const char* name, const char* type, const char* help, auto get) {
     family(name, type, help);
     for (std::size_t i = 0; i < c.size(); ++i) {
-      o << name << "{node=\"" << unsigned{e.node_ids()[i]} << "\"} " << get(i) << '\n';
+      o << name << '{' << node_label(i) << "} " << get(c[i], i) << '\n';
     }
   };
+  using Snap = engine::NodeCountersSnapshot;
   per_node("rfsitl_frames_handed_in_total", "counter", "Frames the agent handed in.",
-           [&](std::size_t i) { return c[i].handed_in; });
+           [](const Snap& n, std::size_t) { return n.handed_in; });
   per_node("rfsitl_frames_queue_dropped_total", "counter", "Frames refused by the full TX queue.",
-           [&](std::size_t i) { return c[i].queue_dropped; });
+           [](const Snap& n, std::size_t) { return n.queue_dropped; });
   per_node("rfsitl_frames_transmitted_total", "counter", "Frames that went on the air.",
-           [&](std::size_t i) { return c[i].transmitted; });
+           [](const Snap& n, std::size_t) { return n.transmitted; });
   per_node("rfsitl_frames_delivered_total", "counter", "Own frames that reached their destination.",
-           [&](std::size_t i) { return c[i].delivered; });
+           [](const Snap& n, std::size_t) { return n.delivered; });
   family("rfsitl_frames_lost_total", "counter", "Own frames lost on the air, by reason.");
   for (std::size_t i = 0; i < c.size(); ++i) {
     for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) {
-      o << "rfsitl_frames_lost_total{node=\"" << unsigned{e.node_ids()[i]} << "\",reason=\""
-        << reason_name(r) << "\"} " << c[i].lost[r] << '\n';
+      o << "rfsitl_frames_lost_total{" << node_label(i) << ",reason=\""
+        << prometheus_label_value(reason_name(r)) << "\"} " << c[i].lost[r] << '\n';
     }
   }
+  per_node("rfsitl_frames_pending", "gauge",
+           "Frames handed in without a final outcome yet (queued, on the air, being decoded).",
+           [](const Snap& n, std::size_t) { return n.pending(); });
   per_node("rfsitl_frames_received_total", "counter", "Frames decoded and handed to the agent.",
-           [&](std::size_t i) { return c[i].received; });
+           [](const Snap& n, std::size_t) { return n.received; });
   per_node("rfsitl_rx_crc_failures_total", "counter", "Decodes that failed the CRC.",
-           [&](std::size_t i) { return c[i].rx_crc_failures; });
+           [](const Snap& n, std::size_t) { return n.rx_crc_failures; });
+  per_node("rfsitl_framing_errors_total", "counter",
+           "Net-port frames refused (oversized or too short).",
+           [](const Snap& n, std::size_t) { return n.framing_errors; });
+  per_node("rfsitl_frames_to_agent_dropped_total", "counter",
+           "Frames decoded for the node but not handed to its agent (none connected, backlog).",
+           [](const Snap& n, std::size_t) { return n.to_agent_dropped; });
+  per_node("rfsitl_location_updates_total", "counter", "Good location-port lines.",
+           [](const Snap& n, std::size_t) { return n.location_updates; });
+  per_node("rfsitl_location_errors_total", "counter", "Location-port lines refused.",
+           [](const Snap& n, std::size_t) { return n.location_errors; });
   per_node("rfsitl_tx_queue_depth", "gauge", "Frames waiting in the TX queue.",
-           [&](std::size_t i) { return e.queue_depth(i); });
+           [&](const Snap&, std::size_t i) { return e.queue_depth(i); });
+  family("rfsitl_node_info", "gauge", "Each node's PHY (value always 1).");
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    o << "rfsitl_node_info{" << node_label(i) << ",phy=\""
+      << prometheus_label_value(s.phy_of(i).type) << "\"} 1\n";
+  }
   family("rfsitl_info", "gauge", "The running scenario (value always 1).");
-  o << "rfsitl_info{scenario=\"" << s.name << "\",nodes=\"" << e.num_nodes() << "\"} 1\n";
+  o << "rfsitl_info{scenario=\"" << prometheus_label_value(s.name) << "\",nodes=\"" << e.num_nodes()
+    << "\"} 1\n";
   return o.str();
 }
 

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <utility>
 
+#include "rfsitl/common/position_limits.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 
@@ -79,9 +80,10 @@ constexpr RealLimit kPositive{0, kInf, true};
 constexpr RealLimit kNonNegative{0, kInf};
 constexpr RealLimit kBandwidthTime{0, 1, true, true};
 constexpr RealLimit kFinite{-kInf, kInf};
-constexpr RealLimit kLatitude{-90, 90};
-constexpr RealLimit kLongitude{-180, 180};
-constexpr RealLimit kAltitude{-1000, 100000};  // the location feed's bounds, so both agree
+// Positions: the limits every input shares (rfsitl/common/position_limits.hpp).
+constexpr RealLimit kLatitude{kLatitudeLimit.lo, kLatitudeLimit.hi};
+constexpr RealLimit kLongitude{kLongitudeLimit.lo, kLongitudeLimit.hi};
+constexpr RealLimit kAltitude{kAltitudeLimit.lo, kAltitudeLimit.hi};
 constexpr RealLimit kNoisePowerDb{-300, 300};  // keeps 10^(dB/10) a normal, non-zero double
 
 constexpr std::array<std::string_view, 2> kTimeModes{"realtime", "virtual"};

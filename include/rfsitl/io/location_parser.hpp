@@ -23,7 +23,8 @@ struct LocationParseResult {
 };
 
 /// Precondition: `line` has no trailing newline (a trailing '\r' is tolerated).
-/// Range checks: |lat| <= 90, |lon| <= 180, -1000 <= alt <= 100000 m; all numbers finite.
+/// Range checks (rfsitl/common/position_limits.hpp): |lat| <= 90, |lon| <= 180,
+/// -1000 <= alt (and local z) <= 100000 m; all numbers finite.
 /// A GGA sentence with fix quality 0 (no fix) is rejected.
 LocationParseResult parse_location_line(std::string_view line);
 

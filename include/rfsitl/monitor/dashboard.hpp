@@ -7,13 +7,16 @@
 ///   GET  /api/snapshot      the WebSocket snapshot message, once
 ///   GET  /metrics           Prometheus text format
 ///   POST /api/nodes/ID/position  {"x","y","z"} local metres or {"lat","lon","alt"}
-///                           (only when control is on; 403 otherwise)
+///                           (only when control is on; 403 otherwise), within the
+///                           location port's limits (rfsitl/common/position_limits.hpp)
 ///   GET  /ws                WebSocket: the server pushes {"type":"hello"} once, then
 ///                           {"type":"snapshot"} every push interval, {"type":"spectrum"}
 ///                           and {"type":"constellation"} for the node the viewer
 ///                           watches. The viewer sends {"type":"watch","node":ID} and
 ///                           {"type":"move","node":ID,"x":..,"y":..,"z":..}.
-/// The message fields are in docs/dashboard.md.
+/// The message fields are in docs/dashboard.md. Every request must carry a Host
+/// naming this server and, if it has an Origin, the dashboard's own
+/// (request_checks.hpp): 421 or 403 otherwise.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -40,6 +43,12 @@ class Dashboard {
   virtual std::uint16_t port() const = 0;
   /// Viewers connected now.
   virtual std::size_t viewers() const = 0;
+  /// Messages not sent to viewers that did not keep up (a snapshot or spectrum
+  /// replaced by a newer one, or the oldest dropped to bound the queue).
+  virtual std::uint64_t messages_dropped() const = 0;
+  /// The most messages any viewer's send queue has held (ViewerQueue::kCapacity
+  /// at most, plus the hello).
+  virtual std::size_t peak_send_queue() const = 0;
 };
 
 /// Binds, registers its LiveView with `engine` (so call it before

@@ -3,6 +3,7 @@
 /// snapshots) and as Prometheus text (/metrics). Everything is read through the
 /// engine's thread-safe views, so any thread may call these during a run.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -24,7 +25,14 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
                              const std::vector<double>& sensitivity_db, bool control,
                              bool with_snr = true);
 
-/// Prometheus text exposition format 0.0.4.
+/// Prometheus text exposition format 0.0.4: every number of stats_json, per
+/// node labelled {node="ID"}, each family with its HELP and TYPE lines.
 std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e);
+
+/// A label value as the text format needs it inside double quotes: backslash,
+/// double quote and line feed become \\, \" and \n; everything else stays.
+std::string prometheus_label_value(std::string_view v);
+/// HELP text escaped: backslash and line feed (a double quote stays as is).
+std::string prometheus_help_text(std::string_view v);
 
 }  // namespace rfsitl::monitor

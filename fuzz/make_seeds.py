@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""Writes the hand-made seeds of fuzz/corpus/ (the scenario seeds are copies of
+scenarios/*.yaml). Run from anywhere: python3 fuzz/make_seeds.py"""
+import json
+import os
+import shutil
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+T = b'\r\r\n\n'
+
+
+def w(target, name, data):
+    d = os.path.join(HERE, 'corpus', target)
+    os.makedirs(d, exist_ok=True)
+    with open(os.path.join(d, name), 'wb') as f:
+        f.write(data.encode() if isinstance(data, str) else data)
+
+
+# net_framing: [max_payload u16 le][cut-point seed][stream]
+def hdr(mp, seed):
+    return struct.pack('<H', mp) + bytes([seed])
+
+
+w('net_framing', 'ubanc_frames', hdr(2048 | 0xF000, 7) + b'\x01\x02hello from 1' + T + b'\x02\xffbroadcast' + T)
+w('net_framing', 'ping_80_bytes', hdr(0xF800, 3) + b'\x01\x02' + bytes(range(80)) + T)
+w('net_framing', 'oversized_resync', hdr(8, 1) + b'\x01\x02' + b'x' * 20 + T + b'\x03\x04ok' + T)
+w('net_framing', 'too_short_and_split_terminator', hdr(16, 9) + b'\x05' + T + b'\x01\x02ab\r\r' + b'\n\n')
+
+# location_parser: the forms of README.md "Location ports", and some rejects
+w('location_parser', 'plain', '43.0008 -78.7890 25.0\n43.0008,-78.7890,25.0\n')
+w('location_parser', 'json_geodetic', '{"lat": 43.0008, "lon": -78.7890, "alt": 25}\n')
+w('location_parser', 'json_local', '{"x": 12.5, "y": -3.0, "z": 20}\n')
+w('location_parser', 'nmea_gga', '$GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,*47\r\n')
+w('location_parser', 'rejects',
+  '91 0 0\n{"lat":1}\n$GPGGA,123519,4807.038,N,01131.000,E,0,08,0.9,545.4,M,46.9,M,,*46\n   \n')
+
+
+# wire_protocol: [mode][...] (see wire_protocol_fuzzer.cpp)
+def header(t, flags=0, tick=0, time=0, count=0, extra=0, magic=0x58534652):
+    return struct.pack('<IHHQQII', magic, t, flags, tick, time, count, extra)
+
+
+hello_s = json.dumps({"node_id": 3, "role": "samples", "program": "gr"}).encode()
+hello_t = json.dumps({"node_id": 7, "role": "transceiver", "program": "rfsitl node"}).encode()
+w('wire_protocol', 'm0_tick', bytes([0]) + header(4, 0, 5, 1250, 2, 0) + struct.pack('<4f', 1, 0, 0, 1))
+w('wire_protocol', 'm0_hello', bytes([0]) + header(1, extra=len(hello_s)) + hello_s)
+w('wire_protocol', 'm1_hello_samples', bytes([1]) + hello_s)
+w('wire_protocol', 'm1_hello_transceiver', bytes([1]) + hello_t)
+w('wire_protocol', 'm1_hello_wrong_role', bytes([1]) + json.dumps({"node_id": 3, "role": "transceiver"}).encode())
+w('wire_protocol', 'm2_hello_raw', bytes([2]) + header(1, extra=len(hello_t)) + hello_t)
+phy = {"type": "gmsk", "rate_mbps": 6.0, "code": "", "modulation": "", "samples_per_chip": 2,
+       "adaptive": False, "samples_per_symbol": 2, "filter_delay_symbols": 3, "bandwidth_time": 0.5,
+       "max_payload_bytes": 2048, "tx_queue_frames": 64}
+wel = json.dumps({"protocol": 1, "node_id": 5, "sample_rate_hz": 1e6, "tick_samples": 250,
+                  "time_mode": "virtual", "phy": phy}).encode()
+w('wire_protocol', 'm3_welcome', bytes([3, 0]) + wel)
+w('wire_protocol', 'm3_reject', bytes([3, 2]) + b'node 5 is not an external node of this scenario')
+w('wire_protocol', 'm4_welcome_raw', bytes([4]) + header(2, extra=len(wel)) + wel)
+rec = struct.pack('<IBBBBffII', 42, 1, 2, 1, 1, -30.0, -25.0, 3, 2) + b'abc' + struct.pack('<4f', 1, 0, 0, 1)
+w('wire_protocol', 'm5_rx_result', bytes([5, 1]) + rec + rec)
+w('wire_protocol', 'm6_tx', bytes([6, 1]) + struct.pack('<8f', *([0.5] * 8)))
+
+# dashboard_http: requests as a browser, curl or a script sends them
+w('dashboard_http', 'get_index', 'GET / HTTP/1.1\r\nHost: 127.0.0.1:15700\r\n\r\n')
+w('dashboard_http', 'get_api_pipelined',
+  'GET /api/stats HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\nGET /api/snapshot?x=1 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n'
+  'GET /metrics HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n')
+body = '{"x": 12.5, "y": -3.0, "z": 20}'
+w('dashboard_http', 'post_local',
+  'POST /api/nodes/2/position HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n'
+  'Content-Length: %d\r\n\r\n%s' % (len(body), body))
+body = '{"lat": 43.0008, "lon": -78.789}'
+w('dashboard_http', 'post_geodetic_same_origin',
+  'POST /api/nodes/9/position HTTP/1.1\r\nHost: 127.0.0.1:15700\r\nOrigin: http://127.0.0.1:15700\r\n'
+  'Content-Length: %d\r\n\r\n%s' % (len(body), body))
+w('dashboard_http', 'post_cross_origin',
+  'POST /api/nodes/1/position HTTP/1.1\r\nHost: localhost\r\nOrigin: http://evil\r\nContent-Length: 2\r\n\r\n{}')
+w('dashboard_http', 'ws_upgrade',
+  'GET /ws HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n'
+  'Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n')
+w('dashboard_http', 'post_chunked',
+  'POST /api/nodes/3/position HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: chunked\r\n\r\n'
+  '7\r\n{"x":1,\r\n10\r\n"y":2,"z":3}    \r\n0\r\n\r\n')
+
+# dashboard_ws: viewer messages, one per line (docs/dashboard.md)
+w('dashboard_ws', 'watch', '{"type":"watch","node":2}\n{"type":"watch","node":null}')
+w('dashboard_ws', 'move', '{"type":"move","node":3,"x":1,"y":2,"z":3}\n'
+  '{"type":"move","node":1,"lat":43.0008,"lon":-78.789,"alt":10}')
+w('dashboard_ws', 'rejects', '{"type":"watch"}\n[1]\n{"type":"jump","node":1}\n{"type":"move","node":9,"x":"a"}')
+
+# scenario: the shipped scenario files
+repo = os.path.dirname(HERE)
+for name in sorted(os.listdir(os.path.join(repo, 'scenarios'))):
+    if name.endswith('.yaml'):
+        os.makedirs(os.path.join(HERE, 'corpus', 'scenario'), exist_ok=True)
+        shutil.copyfile(os.path.join(repo, 'scenarios', name), os.path.join(HERE, 'corpus', 'scenario', name))

@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (fuzz/) into build/fuzz with clang-14 and runs
+# each for SECONDS (default 10), one at a time, on a scratch copy of its seed
+# corpus (fuzz/corpus/ is never written). Prints a table: target, executions,
+# seconds, crashes; exits non-zero on any crash, naming the reproducer.
+#   scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. scripts/fuzz.sh 5 net_framing
+# Extra libFuzzer flags: FUZZ_FLAGS="-runs=10000000" scripts/fuzz.sh 0
+# (SECONDS 0 = no time limit). To go on after a crash (a campaign):
+# FUZZ_FLAGS="-fork=1 -ignore_crashes=1" (one fuzzing process at a time still).
+# Crash files are kept in build/fuzz/crashes/<target>-crash-*.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-10}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] ||
+  targets=(net_framing location_parser scenario wire_protocol dashboard_http dashboard_ws)
+
+# clang-14 and libFuzzer (libclang_rt.fuzzer-x86_64.a comes with libclang-rt-14-dev
+# on Debian 12), plus the libraries the parsers build with.
+PACKAGES=(clang-14 libclang-rt-14-dev cmake ninja-build
+  libliquid-dev libfec-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  libboost-dev)
+bash scripts/apt_install.sh fuzz "${PACKAGES[@]}"
+
+cmake -S . -B build/fuzz -G Ninja -DRFSITL_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++-14 \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRFSITL_WERROR=OFF -DRFSITL_BUILD_TESTS=OFF \
+  -DRFSITL_BUILD_BENCH=OFF >/dev/null
+cmake --build build/fuzz -j "$(nproc)" --target "${targets[@]/%/_fuzzer}"
+
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+scratch="$(mktemp -d /tmp/rfsitl-fuzz.XXXXXX)"
+trap 'rm -rf "$scratch"' EXIT
+mkdir -p build/fuzz/crashes
+rows=()
+failed=0
+# Regression first: every crash ever found (fuzz/crashes/<target>/) must now
+# pass, also with the dashboard fixture before the engine's first tick.
+for t in "${targets[@]}"; do
+  [ -d "fuzz/crashes/$t" ] || continue
+  for before_run in 0 1; do
+    if ! RFSITL_FUZZ_BEFORE_RUN=$before_run build/fuzz/fuzz/"$t"_fuzzer fuzz/crashes/"$t"/* \
+      >"build/fuzz/$t.regression.log" 2>&1; then
+      echo "fuzz: $t: a known crash is back (RFSITL_FUZZ_BEFORE_RUN=$before_run);" \
+        "log: build/fuzz/$t.regression.log" >&2
+      failed=1
+    fi
+  done
+done
+for t in "${targets[@]}"; do
+  corpus="$scratch/$t"
+  mkdir -p "$corpus"
+  cp fuzz/corpus/"$t"/* "$corpus"/
+  log="build/fuzz/$t.log"
+  limit=()
+  [ "$seconds" -gt 0 ] && limit=(-max_total_time="$seconds")
+  before=$(ls build/fuzz/crashes | grep -c "^$t-" || true)
+  start=$(date +%s.%N)
+  rc=0
+  # shellcheck disable=SC2086  # FUZZ_FLAGS is a list of flags
+  build/fuzz/fuzz/"$t"_fuzzer "${limit[@]}" -print_final_stats=1 -timeout=30 \
+    -artifact_prefix="build/fuzz/crashes/$t-" ${FUZZ_FLAGS:-} "$corpus" >"$log" 2>&1 || rc=$?
+  elapsed=$(echo "$(date +%s.%N) - $start" | bc)
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  if [ -z "$execs" ]; then  # a crash prints no final stats: take the last status line
+    execs=$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')
+  fi
+  crashes=$(( $(ls build/fuzz/crashes | grep -c "^$t-" || true) - before ))
+  if [ "$rc" -ne 0 ] || [ "$crashes" -gt 0 ]; then
+    [ "$crashes" -gt 0 ] || crashes=1
+    failed=1
+    repro=$(sed -n "s/.*Test unit written to \(.*\)$/\1/p" "$log" | tail -1)
+    echo "fuzz: $t: $crashes crash(es) (exit $rc); reproducer: ${repro:-none written}; log: $log" >&2
+    grep -E "ERROR:|invariant failed|SUMMARY|what\(\)" "$log" | head -5 >&2 || true
+  fi
+  rows+=("$(printf '%-16s %14s %9.1f %8s' "$t" "${execs:-?}" "$elapsed" "$crashes")")
+done
+printf '%-16s %14s %9s %8s\n' target executions seconds crashes
+printf '%s\n' "${rows[@]}"
+exit "$failed"
