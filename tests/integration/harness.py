@@ -75,10 +75,8 @@ class Emulator:
     """`with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:` runs rfsitl."""
 
     def __init__(self, nodes, extra_yaml="", args=(), ready_timeout=60.0, node_phy=None,
-                 ready_marker="rfsitl: ready", max_open_files=None, env=None):
+                 ready_marker="rfsitl: ready"):
         self.ready_marker = ready_marker
-        self.max_open_files = max_open_files
-        self.env = dict(os.environ, **(env or {}))
         self.nodes = nodes
         self.net_base, self.loc_base = pick_port_bases(list(nodes))
         self.dir = tempfile.TemporaryDirectory(prefix="rfsitl-it-")
@@ -102,15 +100,8 @@ class Emulator:
         return self.loc_base + 10 * node_id
 
     def __enter__(self):
-        limit = self.max_open_files
-
-        def limit_files():  # in the child, before exec: `ulimit -n`
-            if limit is not None:
-                import resource
-                resource.setrlimit(resource.RLIMIT_NOFILE, (limit, limit))
-
         self.proc = subprocess.Popen(self.args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     text=True, preexec_fn=limit_files, env=self.env)
+                                     text=True)
         ready = threading.Event()
 
         def pump():
@@ -252,11 +243,6 @@ class NetClient:
                 if src == 0 and dst == 0:
                     return payload.decode()
         raise AssertionError(f"no reply to control request {request!r}")
-
-    def take(self):
-        """Makes this connection its port's agent at once."""
-        reply = self.control("rfsitl take")
-        assert reply == "rfsitl taken", reply
 
     def closed_by_peer(self, timeout=10.0):
         """True when the emulator closes this connection within `timeout` s."""
