@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
-#include "rfsitl/phy/gmsk_transceiver.hpp"
+#include "rfsitl/phy/gmsk_liquid/gmsk_transceiver.hpp"
 
 namespace {
 

@@ -34,7 +34,7 @@ struct Point {
   std::uint64_t delivered;
 };
 
-Point measure(const scenario::PhyConfig& phy, const std::string& label, double snr_db,
+Point measure(const scenario::PhyChoice& phy, const std::string& label, double snr_db,
               unsigned frames, std::size_t payload, std::uint64_t seed) {
   scenario::Scenario s;
   s.name = "per-sweep";
@@ -44,8 +44,9 @@ Point measure(const scenario::PhyConfig& phy, const std::string& label, double s
   s.channel.noise_variance = std::pow(10.0, -snr_db / 10.0);
   s.nodes = {{1, LocalPosition{0, 0, 10}, std::nullopt},
              {2, LocalPosition{0, 0, 10}, std::nullopt}};
-  const double frame_s = static_cast<double>(phy::make_transceiver(phy)->frame_samples(payload)) /
-                         s.timing.sample_rate_hz;
+  const double frame_s =
+      static_cast<double>(phy::make_transceiver(phy.type, phy.settings)->frame_samples(payload)) /
+      s.timing.sample_rate_hz;
   const double interval = 1.5 * frame_s + 0.001;
   s.traffic = {{0.001, 1, 2, payload, frames, interval}};
   s.timing.duration_s = 0.001 + interval * frames + 0.01;
@@ -83,28 +84,23 @@ int main(int argc, char** argv) {
 
   struct Curve {
     std::string label;
-    scenario::PhyConfig phy;
+    scenario::PhyChoice phy;
     double from_db;  // where the curve starts to matter
   };
   std::vector<Curve> curves;
-  curves.push_back({"gmsk", scenario::PhyConfig{}, from});
-  scenario::PhyConfig liquid;
-  liquid.type = "gmsk-liquid";
-  curves.push_back({"gmsk-liquid", liquid, from});
+  curves.push_back({"gmsk", scenario::PhyChoice::of("gmsk"), from});
+  curves.push_back({"gmsk-liquid", scenario::PhyChoice::of("gmsk-liquid"), from});
   for (unsigned rate : {6U, 9U, 12U, 18U, 24U, 36U, 48U, 54U}) {
-    scenario::PhyConfig p;
-    p.type = "ofdm";
-    p.rate_mbps = rate;
-    curves.push_back({"ofdm" + std::to_string(rate), p, from});
+    curves.push_back({"ofdm" + std::to_string(rate),
+                      scenario::PhyChoice::of("ofdm").with("rate_mbps", rate), from});
   }
   // DSSS at 1 sample per chip: the processing gain moves the curves left.
   for (const auto& [code, modulation, start] :
        {std::tuple{"barker11", "dbpsk", -6.0}, std::tuple{"barker11", "dqpsk", -2.0},
         std::tuple{"mseq31", "dbpsk", -10.0}, std::tuple{"mseq127", "dbpsk", -16.0}}) {
-    scenario::PhyConfig p;
-    p.type = "dsss";
-    p.code = code;
-    p.modulation = modulation;
+    const auto p = scenario::PhyChoice::of("dsss")
+                       .with("code", std::string(code))
+                       .with("modulation", std::string(modulation));
     curves.push_back({std::string("dsss-") + code + "-" + modulation, p, std::min(from, start)});
   }
   std::ofstream out(csv);

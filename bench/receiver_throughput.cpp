@@ -14,6 +14,7 @@
 
 #include "bench_signals.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/scenario/scenario.hpp"
 
 namespace {
 
@@ -22,16 +23,16 @@ using namespace rfsitl;
 using bench::CountingHandler;
 using bench::noise;
 
-std::vector<cf32> frames(const scenario::PhyConfig& phy, std::size_t n, std::size_t* count) {
-  auto tx = phy::make_transceiver(phy);
+std::vector<cf32> frames(const scenario::PhyChoice& phy, std::size_t n, std::size_t* count) {
+  auto tx = phy::make_transceiver(phy.type, phy.settings);
   return bench::frames(*tx, n, 1e-3F, 200, count);  // 30 dB below the unit-power signal
 }
 
 /// Median samples/s of feeding `input` in 250-sample ticks to a fresh receiver.
-double rate(const scenario::PhyConfig& phy, const std::vector<cf32>& input, std::size_t* valid) {
+double rate(const scenario::PhyChoice& phy, const std::vector<cf32>& input, std::size_t* valid) {
   std::vector<double> rates;
   for (int run = 0; run < 5; ++run) {
-    auto rx = phy::make_transceiver(phy);
+    auto rx = phy::make_transceiver(phy.type, phy.settings);
     CountingHandler h;
     const auto t0 = std::chrono::steady_clock::now();
     for (std::size_t i = 0; i < input.size(); i += 250) {
@@ -55,22 +56,16 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   const auto n = static_cast<std::size_t>(seconds * 1e6);
 
-  std::vector<std::pair<std::string, scenario::PhyConfig>> phys;
-  phys.emplace_back("gmsk", scenario::PhyConfig{});
-  scenario::PhyConfig liquid;
-  liquid.type = "gmsk-liquid";
-  phys.emplace_back("gmsk-liquid", liquid);
+  std::vector<std::pair<std::string, scenario::PhyChoice>> phys;
+  phys.emplace_back("gmsk", scenario::PhyChoice::of("gmsk"));
+  phys.emplace_back("gmsk-liquid", scenario::PhyChoice::of("gmsk-liquid"));
   for (unsigned r : {6U, 24U, 54U}) {
-    scenario::PhyConfig p;
-    p.type = "ofdm";
-    p.rate_mbps = r;
-    phys.emplace_back("ofdm" + std::to_string(r), p);
+    phys.emplace_back("ofdm" + std::to_string(r),
+                      scenario::PhyChoice::of("ofdm").with("rate_mbps", r));
   }
   for (const char* code : {"barker11", "mseq127"}) {
-    scenario::PhyConfig p;
-    p.type = "dsss";
-    p.code = code;
-    phys.emplace_back(std::string("dsss-") + code, p);
+    phys.emplace_back(std::string("dsss-") + code,
+                      scenario::PhyChoice::of("dsss").with("code", std::string(code)));
   }
   const std::vector<cf32> quiet = noise(n, 1.0F, 3);
   std::printf("%-13s %16s %22s %10s\n", "phy", "noise [Msps]", "with frames [Msps]", "decoded");

@@ -17,7 +17,7 @@
 ///     emulator that answers the hello with header type (byte 1: welcome,
 ///     reject or other) + the rest as extra. connect() must return a Welcome
 ///     for the node it asked for or throw std::runtime_error, nothing else;
-///     a welcome's "phy" goes through phy_config_from_json, which must return
+///     a welcome's "phy" goes through phy_from_json, which must return
 ///     or throw std::invalid_argument.
 ///  4  welcome/reject, raw: the rest as the whole answer datagram (same checks).
 ///  5  kRxResult decoding: the remote-transceiver proxy (make_remote_transceiver
@@ -54,6 +54,7 @@
 #include "rfsitl/external/node_link.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/external/wire_protocol.hpp"
+#include "rfsitl/scenario/scenario.hpp"
 
 using namespace rfsitl;
 using namespace rfsitl::external;
@@ -122,7 +123,7 @@ ExternalHub& hub() {
     s.socket_path = socket_path("hub");
     std::vector<ExternalNodeSpec> nodes(2);
     nodes[0] = {0, 3, Role::kSamples, ""};
-    nodes[1] = {1, 7, Role::kTransceiver, phy_config_to_json(scenario::PhyConfig{})};
+    nodes[1] = {1, 7, Role::kTransceiver, phy_to_json("gmsk", scenario::PhyChoice{}.settings)};
     return make_external_hub(s, nodes).release();  // lives until exit
   }();
   return *h;
@@ -209,7 +210,7 @@ void welcome(std::vector<std::uint8_t> answer) {
     FUZZ_CHECK(w.node_id == 5, "welcome accepted for node %u", unsigned{w.node_id});
     if (!w.phy_json.empty()) {
       try {
-        (void)phy_config_from_json(w.phy_json);
+        (void)phy_from_json(w.phy_json);
       } catch (const std::invalid_argument&) {
       }
     }
@@ -223,7 +224,7 @@ void welcome(std::vector<std::uint8_t> answer) {
 
 struct Proxy {
   std::shared_ptr<NodeLink> link = std::make_shared<NodeLink>(7, kReplyTimeoutMs);
-  std::unique_ptr<phy::Transceiver> radio = make_remote_transceiver(link, scenario::PhyConfig{});
+  std::unique_ptr<phy::Transceiver> radio = make_remote_transceiver(link, scenario::PhyChoice{});
   std::uint64_t tick = 0;
 };
 

@@ -77,7 +77,7 @@ const SettingFlag kSettingFlags[] = {
     {"--stats-interval", "engine.stats_interval_s", "Wall seconds between stats lines; 0: off",
      [](S d) { return number(d.engine.stats_interval_s); }},
     {"--phy", "phy.type",
-     "Transceiver of every node without its own phy: gmsk, gmsk-liquid, ofdm, dsss, external",
+     "Transceiver of every node without its own phy (rfsitl describe phy lists them)",
      [](S d) { return d.phy.type; }},
     {"--external-socket", "external.socket", "Unix socket for external transceivers",
      [](S) { return std::string("/tmp/rfsitl-<net-base>.sock"); }},
@@ -134,7 +134,8 @@ scenario::Scenario build_scenario(const RunOptions& o) {
   if (o.arch) {
     // Every built-in transceiver moves: threads = in the emulator, split = one
     // `rfsitl node` process each. External programs stay what they are.
-    const std::string process = *o.arch == "split" ? "child" : "inline";
+    const auto process =
+        *o.arch == "split" ? scenario::Process::kChild : scenario::Process::kInline;
     s.phy.process = process;
     for (auto& n : s.nodes) {
       if (n.phy) n.phy->process = process;
@@ -157,21 +158,6 @@ std::string format_position(const std::optional<Position>& p) {
   return buf;
 }
 
-std::string describe_phy(const scenario::PhyConfig& p) {
-  if (p.type == "external") return "external program";
-  if (p.process == "child") {
-    scenario::PhyConfig inline_phy = p;
-    inline_phy.process = "inline";
-    return describe_phy(inline_phy) + " [child]";
-  }
-  if (p.type == "ofdm") return "ofdm " + std::to_string(p.rate_mbps) + " Mbit/s";
-  if (p.type == "dsss") return "dsss " + p.code + " " + p.modulation;
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%s k=%u BT=%.2f", p.type.c_str(), p.samples_per_symbol,
-                static_cast<double>(p.bandwidth_time));
-  return buf;
-}
-
 void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
   const double tick_ms = 1e3 * s.timing.tick_samples / s.timing.sample_rate_hz;
   std::printf(
@@ -182,9 +168,9 @@ void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
       10.0 * std::log10(s.channel.noise_variance), static_cast<unsigned long long>(s.seed));
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const auto& n = s.nodes[i];
-    const bool own_net = s.phy_of(i).type != "external";
+    const bool own_net = !s.phy_of(i).external_program();
     std::printf("  node %3u: %-26s net %s:%u%s  location %s:%u  start %s\n", n.id,
-                describe_phy(s.phy_of(i)).c_str(), sc.bind_address.c_str(),
+                s.phy_of(i).label().c_str(), sc.bind_address.c_str(),
                 io::NodeServers::net_port(sc, n.id), own_net ? "" : " (its program's)",
                 sc.bind_address.c_str(), io::NodeServers::loc_port(sc, n.id),
                 format_position(n.initial_position).c_str());
@@ -337,7 +323,7 @@ int run(const RunOptions& o) {
 
   io::ServerConfig sc{bind_address, s.ports.net_base, s.ports.loc_base, s.channel.origin, {}};
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    if (s.phy_of(i).type == "external") sc.external_net_ports.push_back(s.nodes[i].id);
+    if (s.phy_of(i).external_program()) sc.external_net_ports.push_back(s.nodes[i].id);
   }
   auto servers = io::make_node_servers(sc);
   std::unique_ptr<external::ExternalRuntime> external;

@@ -109,14 +109,14 @@ class LockStepEngine final : public Engine {
       node.index = i;
       node.reporter = &reporter_;
       ids_.push_back(node.id);
-      const scenario::PhyConfig& phy = s.phy_of(i);
+      const scenario::PhyChoice& phy = s.phy_of(i);
       if (factory) {
         node.radio = factory(i, phy);
       } else if (s.runs_externally(i)) {
         throw std::invalid_argument("node " + std::to_string(node.id) +
                                     " runs in another process, but no external hub was set up");
       } else {
-        node.radio = phy::make_transceiver(phy);
+        node.radio = phy::make_transceiver(phy.type, phy.settings);
       }
       if (node.radio->remote()) ++remote_count_;
       node.queue = std::make_unique<SpscRing<QueuedFrame>>(phy.tx_queue_frames);

@@ -33,9 +33,12 @@ FrameEvent EventReporter::make(FrameEventKind kind, std::size_t sender, NodeId s
   e.src = src;
   e.dst = dst;
   e.node = scenario_.nodes[sender].id;
-  const scenario::PhyConfig& phy = scenario_.phy_of(sender);
+  const scenario::PhyChoice& phy = scenario_.phy_of(sender);
   e.phy = phy.type;
-  if (phy.type == "ofdm") e.rate_mbps = phy.rate_mbps;
+  // A PHY with a nominal data rate declares it as rate_mbps (pcap's radiotap rate).
+  if (const auto* rate = phy.settings.find("rate_mbps")) {
+    e.rate_mbps = static_cast<unsigned>(std::get<std::uint64_t>(*rate));
+  }
   return e;
 }
 

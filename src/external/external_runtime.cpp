@@ -16,11 +16,11 @@ std::string external_socket_path(const scenario::Scenario& s) {
 ExternalRuntime::ExternalRuntime(const scenario::Scenario& s) : scenario_(s) {
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (!s.runs_externally(i)) continue;
-    const scenario::PhyConfig& phy = s.phy_of(i);
-    const bool samples = phy.type == "external";
-    specs_.push_back(ExternalNodeSpec{i, s.nodes[i].id,
-                                      samples ? Role::kSamples : Role::kTransceiver,
-                                      samples ? std::string() : phy_config_to_json(phy)});
+    const scenario::PhyChoice& phy = s.phy_of(i);
+    const bool samples = phy.external_program();
+    specs_.push_back(
+        ExternalNodeSpec{i, s.nodes[i].id, samples ? Role::kSamples : Role::kTransceiver,
+                         samples ? std::string() : phy_to_json(phy.type, phy.settings)});
   }
   HubSettings hs;
   hs.socket_path = external_socket_path(s);
@@ -40,10 +40,10 @@ std::unique_ptr<ExternalRuntime> ExternalRuntime::create(const scenario::Scenari
 
 engine::TransceiverFactory ExternalRuntime::transceiver_factory() const {
   return [this](std::size_t index,
-                const scenario::PhyConfig& phy) -> std::unique_ptr<phy::Transceiver> {
+                const scenario::PhyChoice& phy) -> std::unique_ptr<phy::Transceiver> {
     const auto link = hub_->link(index);
-    if (!link) return phy::make_transceiver(phy);
-    if (phy.type == "external") {
+    if (!link) return phy::make_transceiver(phy.type, phy.settings);
+    if (phy.external_program()) {
       return make_sample_port_transceiver(link, scenario_.timing.tick_samples);
     }
     return make_remote_transceiver(link, phy);

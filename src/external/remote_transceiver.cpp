@@ -12,8 +12,8 @@ namespace {
 
 class RemoteTransceiver final : public phy::Transceiver {
  public:
-  RemoteTransceiver(std::shared_ptr<NodeLink> link, const scenario::PhyConfig& phy)
-      : link_(std::move(link)), shadow_(phy::make_transceiver(phy)) {}
+  RemoteTransceiver(std::shared_ptr<NodeLink> link, const scenario::PhyChoice& phy)
+      : link_(std::move(link)), shadow_(phy::make_transceiver(phy.type, phy.settings)) {}
 
   std::size_t max_payload() const override { return shadow_->max_payload(); }
   std::size_t frame_samples(std::size_t bytes) const override {
@@ -141,7 +141,7 @@ class RemoteTransceiver final : public phy::Transceiver {
 }  // namespace
 
 std::unique_ptr<phy::Transceiver> make_remote_transceiver(std::shared_ptr<NodeLink> link,
-                                                          const scenario::PhyConfig& phy) {
+                                                          const scenario::PhyChoice& phy) {
   return std::make_unique<RemoteTransceiver>(std::move(link), phy);
 }
 

@@ -95,7 +95,8 @@ int run_transceiver_node(const TransceiverNodeOptions& o, const std::atomic<bool
   const Welcome& w = client.welcome();
   std::unique_ptr<phy::Transceiver> radio;
   try {
-    radio = phy::make_transceiver(phy_config_from_json(w.phy_json));
+    const PhyRequest request = phy_from_json(w.phy_json);
+    radio = phy::make_transceiver(request.type, request.settings);
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "rfsitl node %u: %s\n", o.node_id, e.what());
     return 1;

@@ -77,9 +77,11 @@ class Server final : public Dashboard {
   Server(const DashboardSettings& settings, const scenario::Scenario& s, engine::Engine& e)
       : settings_(settings), scenario_(s), engine_(e), view_(e.node_ids()), timer_(io_) {
     for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-      const scenario::PhyConfig& phy = s.phy_of(i);
+      const scenario::PhyChoice& phy = s.phy_of(i);
       sensitivity_.push_back(
-          phy.type == "external" ? NAN : phy::make_transceiver(phy)->sensitivity_snr_db());
+          phy.external_program()
+              ? NAN
+              : phy::make_transceiver(phy.type, phy.settings)->sensitivity_snr_db());
     }
     listen();
     engine_.add_observer(view_);

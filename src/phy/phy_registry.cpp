@@ -1,62 +1,73 @@
 #include "rfsitl/phy/phy_registry.hpp"
 
-#include <functional>
-#include <map>
+#include <algorithm>
 #include <stdexcept>
 
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
-#include "rfsitl/phy/gmsk_transceiver.hpp"
-#include "rfsitl/phy/ofdm_transceiver.hpp"
+// The built-in PHYs, one entry each: adding a PHY is a folder under src/phy/
+// that defines `PhyComponent <name>_component()`, and its name here.
+#define RFSITL_PHYS(X) X(gmsk) X(gmsk_liquid) X(ofdm) X(dsss) X(external_program)
 
 namespace rfsitl::phy {
-namespace {
 
-using Factory = std::function<std::unique_ptr<Transceiver>(const scenario::PhyConfig&)>;
+#define RFSITL_DECLARE_PHY(name) PhyComponent name##_component();
+RFSITL_PHYS(RFSITL_DECLARE_PHY)
+#undef RFSITL_DECLARE_PHY
 
-const std::map<std::string, Factory>& registry() {
-  static const std::map<std::string, Factory> factories = {
-      // Our own GMSK (fast receiver, ~5 dB more sensitive than liquid-dsp's).
-      {"gmsk",
-       [](const scenario::PhyConfig& c) {
-         return make_fast_gmsk_transceiver(FastGmskSettings{
-             c.samples_per_symbol, c.bandwidth_time, c.filter_delay_symbols, c.max_payload_bytes});
-       }},
-      // liquid-dsp's gmskframegen/gmskframesync, the reference implementation.
-      {"gmsk-liquid",
-       [](const scenario::PhyConfig& c) {
-         return make_gmsk_transceiver(GmskSettings{c.samples_per_symbol, c.filter_delay_symbols,
-                                                   c.bandwidth_time, c.max_payload_bytes});
-       }},
-      {"dsss",
-       [](const scenario::PhyConfig& c) {
-         return make_dsss_transceiver(DsssSettings{c.code, c.modulation, c.samples_per_chip,
-                                                   c.max_payload_bytes, c.adaptive});
-       }},
-      {"ofdm",
-       [](const scenario::PhyConfig& c) {
-         return make_ofdm_transceiver(OfdmSettings{c.rate_mbps, c.max_payload_bytes});
-       }},
-  };
-  return factories;
+const std::vector<PhyComponent>& phy_components() {
+  static const std::vector<PhyComponent> all = [] {
+#define RFSITL_LIST_PHY(name) name##_component(),
+    std::vector<PhyComponent> v{RFSITL_PHYS(RFSITL_LIST_PHY)};
+#undef RFSITL_LIST_PHY
+    std::sort(v.begin(), v.end(), [](const PhyComponent& a, const PhyComponent& b) {
+      return a.info.name < b.info.name;
+    });
+    for (const PhyComponent& p : v) {
+      if (p.kind == TransceiverKind::kBuiltIn && p.info.find(kMaxPayloadSetting) == nullptr) {
+        throw std::logic_error("PHY " + p.info.name + " does not declare max_payload_bytes");
+      }
+    }
+    return v;
+  }();
+  return all;
 }
 
-}  // namespace
-
-std::unique_ptr<Transceiver> make_transceiver(const scenario::PhyConfig& config) {
-  const auto it = registry().find(config.type);
-  if (it == registry().end()) {
-    std::string known;
-    for (const auto& name : known_phy_types()) known += (known.empty() ? "" : ", ") + name;
-    throw std::invalid_argument("unknown phy type '" + config.type + "' (known: " + known + ")");
-  }
-  return it->second(config);
+const PhyComponent* find_phy(std::string_view type) {
+  const auto& all = phy_components();
+  const auto it = std::find_if(all.begin(), all.end(),
+                               [type](const PhyComponent& p) { return p.info.name == type; });
+  return it == all.end() ? nullptr : &*it;
 }
 
 std::vector<std::string> known_phy_types() {
   std::vector<std::string> names;
-  for (const auto& [name, factory] : registry()) names.push_back(name);
+  for (const PhyComponent& p : phy_components()) names.push_back(p.info.name);
   return names;
+}
+
+std::unique_ptr<Transceiver> make_transceiver(std::string_view type,
+                                              const config::Settings& settings) {
+  const PhyComponent* p = find_phy(type);
+  if (p == nullptr) {
+    std::string known;
+    for (const auto& name : known_phy_types()) known += (known.empty() ? "" : ", ") + name;
+    throw std::invalid_argument("unknown phy type '" + std::string(type) + "' (known: " + known +
+                                ")");
+  }
+  if (!p->make) {
+    throw std::invalid_argument("phy type '" + std::string(type) +
+                                "' is another program's transceiver; rfsitl cannot build it");
+  }
+  try {
+    p->info.validate(settings);
+  } catch (const config::SettingError& e) {
+    throw std::invalid_argument("phy " + std::string(type) + ": " + e.key() + ": " + e.what());
+  }
+  return p->make(settings);
+}
+
+std::unique_ptr<Transceiver> make_transceiver(std::string_view type) {
+  const PhyComponent* p = find_phy(type);
+  return make_transceiver(type, p != nullptr ? p->info.defaults() : config::Settings{});
 }
 
 }  // namespace rfsitl::phy

@@ -25,6 +25,8 @@
 #include <utility>
 #include <vector>
 
+#include "rfsitl/config/setting.hpp"
+#include "rfsitl/phy/phy_registry.hpp"
 #include "scenario_rules.hpp"
 
 namespace rfsitl::scenario {
@@ -165,6 +167,15 @@ class Section {
     if (const Entry e = take(leaf)) out = text(c_, e);
   }
 
+  // Keys present but never asked for (so far).
+  std::vector<std::string> unknown_keys() const {
+    std::vector<std::string> out;
+    for (const auto& kv : map_) {
+      if (!is_one_of(kv.first.Scalar(), known_)) out.push_back(kv.first.Scalar());
+    }
+    return out;
+  }
+
   void finish() const {
     for (const auto& kv : map_) {
       if (is_one_of(kv.first.Scalar(), known_)) continue;
@@ -257,21 +268,67 @@ void read_ports(Context& c, const Entry& at, PortConfig& p) {
   sec.finish();
 }
 
-void read_phy(Context& c, const Entry& at, PhyConfig& p) {
+// A value of a component's declared setting, with the declaration's type and limits.
+config::Value read_value(const Context& c, const Entry& e, const config::Setting& d) {
+  config::Value v;
+  switch (d.type) {
+    case config::ValueType::kBool:
+      v = boolean(c, e);
+      break;
+    case config::ValueType::kInteger:
+      v = integer(c, e, kAnyInteger);
+      break;
+    case config::ValueType::kReal:
+      v = real(c, e);
+      break;
+    case config::ValueType::kText:
+      v = text(c, e);
+      break;
+  }
+  if (const auto why = d.reject_reason(v)) c.fail(e.key, *why);
+  return v;
+}
+
+// `type` picks a registered PHY; a type other than the current one starts from
+// that PHY's defaults (so a node inherits the scenario's PHY settings only when
+// its type is the same). `process` and `tx_queue_frames` are every PHY's; the
+// rest are the PHY's declared settings.
+void read_phy(Context& c, const Entry& at, PhyChoice& p) {
   Section sec(c, at);
-  sec.get("type", p.type);
-  sec.get("process", p.process);
-  sec.get("samples_per_symbol", p.samples_per_symbol, kSamplesPerSymbol);
-  sec.get("bandwidth_time", p.bandwidth_time);
-  sec.get("filter_delay_symbols", p.filter_delay_symbols, kFilterDelay);
-  sec.get("max_payload_bytes", p.max_payload_bytes, kPayloadBytes);
+  if (const Entry type = sec.take("type")) {
+    const std::string t = text(c, type);
+    c.check_name(t, type.key, phy::known_phy_types());
+    if (t != p.type) {
+      p.type = t;
+      p.settings = PhyChoice::phy_defaults(t);
+    }
+  }
+  if (const Entry process = sec.take("process")) {
+    const std::string name = text(c, process);
+    c.check_name(name, process.key, kProcesses);
+    p.process = name == "child" ? Process::kChild : Process::kInline;
+  }
   sec.get("tx_queue_frames", p.tx_queue_frames, kTxQueue);
-  sec.get("rate_mbps", p.rate_mbps, kRateMbps);
-  sec.get("code", p.code);
-  sec.get("modulation", p.modulation);
-  sec.get("samples_per_chip", p.samples_per_chip, kSamplesPerChip);
-  sec.get("adaptive", p.adaptive);
+  const config::ComponentInfo& info = p.component().info;
+  for (const config::Setting& d : info.settings) {
+    if (const Entry e = sec.take(d.name)) p.settings.set(d.name, read_value(c, e, d));
+  }
+  // A setting of another PHY is the likeliest mistake: say whose it is.
+  for (const std::string& key : sec.unknown_keys()) {
+    for (const phy::PhyComponent& other : phy::phy_components()) {
+      if (other.info.find(key) == nullptr) continue;
+      std::string own;
+      for (const config::Setting& d : info.settings) own += (own.empty() ? "" : ", ") + d.name;
+      c.fail(at.key + "." + key, "is a setting of phy type " + other.info.name + ", not of " +
+                                     p.type + " (whose settings are: " + own + ")");
+    }
+  }
   sec.finish();
+  try {
+    info.validate(p.settings);
+  } catch (const config::SettingError& e) {
+    c.fail(at.key + "." + e.key(), e.what());
+  }
 }
 
 void read_channel(Context& c, const Entry& at, ChannelConfig& ch) {
@@ -326,7 +383,7 @@ NodeId node_id(Context& c, Section& sec, std::string_view leaf, IntLimit lim) {
 }
 
 // A node's `phy` starts from the scenario's and overrides the keys it names.
-NodeConfig read_node(Context& c, const Entry& at, const PhyConfig& scenario_phy) {
+NodeConfig read_node(Context& c, const Entry& at, const PhyChoice& scenario_phy) {
   Section sec(c, at);
   NodeConfig n;
   n.id = node_id(c, sec, "id", kNodeIdLimit);
@@ -345,7 +402,7 @@ TrafficItem read_traffic_item(Context& c, const Entry& at) {
   sec.get("at_s", t.at_s);
   t.src = node_id(c, sec, "src", kNodeIdLimit);
   t.dst = node_id(c, sec, "dst", kDstLimit);
-  sec.get("size_bytes", t.size_bytes, kPayloadBytes);  // validate(): <= phy.max_payload_bytes
+  sec.get("size_bytes", t.size_bytes, kSize);
   sec.get("repeat", t.repeat, kRepeat);
   sec.get("interval_s", t.interval_s);
   sec.finish();

@@ -63,22 +63,15 @@ struct RealLimit {  // NaN and infinities are never in range
 constexpr IntLimit kNodeIdLimit{kMinNodeId, kMaxNodeId};
 constexpr IntLimit kDstLimit{kMinNodeId, kBroadcastId};  // listed or broadcast: validate()
 constexpr IntLimit kTickSamples{1, 1U << 20};
-constexpr IntLimit kSamplesPerSymbol{2, 16};
-constexpr IntLimit kFilterDelay{1, 16};
-constexpr IntLimit kPayloadBytes{1, 65535};
 constexpr IntLimit kTxQueue{1, 65536};
-constexpr IntLimit kOfdmPayloadBytes{1, 4095 - 30};  // PSDU <= 4095 octets with MAC overhead
-constexpr IntLimit kRateMbps{1, 1000};
-constexpr IntLimit kSamplesPerChip{1, 8};
-constexpr std::array<std::string_view, 2> kDsssModulations{"dbpsk", "dqpsk"};
-constexpr std::array<std::string_view, 8> kOfdmRates{"6", "9", "12", "18", "24", "36", "48", "54"};
+constexpr IntLimit kAnyInteger{0, std::numeric_limits<std::uint64_t>::max()};
+constexpr IntLimit kSize{1, 65535};  // traffic sizes; validate(): <= the PHY's max payload
 constexpr IntLimit kThreads{0, 256};
 constexpr IntLimit kPort{0, 65535};
 constexpr IntLimit kSeed{0, std::numeric_limits<std::uint64_t>::max()};
 constexpr IntLimit kRepeat{1, std::numeric_limits<unsigned>::max()};
 constexpr RealLimit kPositive{0, kInf, true};
 constexpr RealLimit kNonNegative{0, kInf};
-constexpr RealLimit kBandwidthTime{0, 1, true, true};
 constexpr RealLimit kFinite{-kInf, kInf};
 // Positions: the limits every input shares (rfsitl/common/position_limits.hpp).
 constexpr RealLimit kLatitude{kLatitudeLimit.lo, kLatitudeLimit.hi};

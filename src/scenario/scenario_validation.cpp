@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/dsss/code_adaptation.hpp"
-#include "rfsitl/phy/dsss/codes.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
 #include "scenario_rules.hpp"
 
@@ -83,13 +81,13 @@ void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
     if (t.dst == t.src) c.fail(key + ".dst", "equals src (a half-duplex node cannot hear itself)");
     const auto src = std::find_if(s.nodes.begin(), s.nodes.end(),
                                   [&](const NodeConfig& n) { return n.id == t.src; });
-    const PhyConfig& src_phy = src->phy ? *src->phy : s.phy;
-    if (src_phy.type == "external") {
+    const PhyChoice& src_phy = src->phy ? *src->phy : s.phy;
+    if (src_phy.external_program()) {
       c.fail(key + ".src", "node " + std::to_string(t.src) +
                                " is external: its own program serves its net port and sends "
                                "its traffic");
     }
-    c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, src_phy.max_payload_bytes});
+    c.check(t.size_bytes, key + ".size_bytes", IntLimit{1, src_phy.max_payload_bytes()});
     c.check(t.repeat, key + ".repeat", kRepeat);
     c.check(t.interval_s, key + ".interval_s", kNonNegative);
     // The sample clock counts to 2^62; a later frame could never be sent.
@@ -102,34 +100,14 @@ void check_traffic(const Scenario& s, const Context& c, const Listed& listed) {
   }
 }
 
-void check_phy(const Context& c, const PhyConfig& p, const std::string& key) {
-  std::vector<std::string> types = phy::known_phy_types();
-  types.push_back("external");
-  c.check_name(p.type, key + ".type", types);
-  c.check_name(p.process, key + ".process", kProcesses);
-  c.check(p.samples_per_symbol, key + ".samples_per_symbol", kSamplesPerSymbol);
-  c.check(p.bandwidth_time, key + ".bandwidth_time", kBandwidthTime);
-  c.check(p.filter_delay_symbols, key + ".filter_delay_symbols", kFilterDelay);
-  c.check(p.max_payload_bytes, key + ".max_payload_bytes", kPayloadBytes);
+// The PHY's declared settings (limits and rules) are the PHY's; the rest is ours.
+void check_phy(const Context& c, const PhyChoice& p, const std::string& key) {
+  c.check_name(p.type, key + ".type", phy::known_phy_types());
   c.check(p.tx_queue_frames, key + ".tx_queue_frames", kTxQueue);
-  c.check_name(std::to_string(p.rate_mbps), key + ".rate_mbps", kOfdmRates);
-  if (p.type == "ofdm") {
-    c.check(p.max_payload_bytes, key + ".max_payload_bytes", kOfdmPayloadBytes);
-  }
-  c.check_name(p.modulation, key + ".modulation", kDsssModulations);
-  c.check(p.samples_per_chip, key + ".samples_per_chip", kSamplesPerChip);
   try {
-    const phy::dsss::SpreadingCode code = phy::dsss::code_by_name(p.code);
-    // Adaptation moves between members of the code's Gold family; a code
-    // without one (barker11, mseq255) leaves it nothing to choose from.
-    if (p.type == "dsss" && p.adaptive && phy::dsss::adaptation_candidates(code, 2).size() < 2) {
-      c.fail(key + ".adaptive",
-             "needs a code with a Gold family (mseq<N> or gold<N> with N in "
-             "31, 63, 127, 511, 1023), but code is '" +
-                 p.code + "'");
-    }
-  } catch (const std::invalid_argument& e) {
-    c.fail(key + ".code", e.what());
+    p.component().info.validate(p.settings);
+  } catch (const config::SettingError& e) {
+    c.fail(key + "." + e.key(), e.what());
   }
 }
 

@@ -122,7 +122,7 @@ TEST(Engine, ScheduledFrameIsDeliveredToDestinationSinkWithItsContents) {
   ASSERT_EQ(d.frame.payload.size(), 80U);
   for (std::size_t b = 0; b < 80; ++b) EXPECT_EQ(d.frame.payload[b], b) << "byte " << b;
   // Goes on air at the 2 ms tick boundary; decoded within frame + receiver latency.
-  const auto radio = phy::make_transceiver(s.phy);
+  const auto radio = phy::make_transceiver(s.phy.type, s.phy.settings);
   EXPECT_GE(d.tick_start, 2000);
   EXPECT_LE(d.tick_start,
             static_cast<SampleTime>(2000 + radio->frame_samples(80) + radio->rx_latency_samples()));

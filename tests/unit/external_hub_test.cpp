@@ -16,6 +16,7 @@
 #include "external_test_support.hpp"
 #include "rfsitl/external/external_client.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
+#include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::external {
 namespace {
@@ -29,14 +30,12 @@ constexpr NodeId kTransceiverNode = 4;
 /// Node 3 (engine index 0) runs the samples role, node 4 (index 1) a DSSS PHY
 /// in the transceiver role: settings far from the defaults, so that a welcome
 /// that carried the defaults instead would be noticed.
-scenario::PhyConfig transceiver_phy() {
-  scenario::PhyConfig p;
-  p.type = "dsss";
-  p.code = "gold7:3";
-  p.modulation = "dqpsk";
-  p.samples_per_chip = 2;
-  p.max_payload_bytes = 321;
-  return p;
+scenario::PhyChoice transceiver_phy() {
+  return scenario::PhyChoice::of("dsss")
+      .with("code", std::string("gold31:3"))
+      .with("modulation", std::string("dqpsk"))
+      .with("samples_per_chip", 2U)
+      .with("max_payload_bytes", 321U);
 }
 
 HubSettings hub_settings(const std::string& path, int reply_timeout_ms = 1000) {
@@ -52,7 +51,7 @@ HubSettings hub_settings(const std::string& path, int reply_timeout_ms = 1000) {
 std::vector<ExternalNodeSpec> two_nodes() {
   return {ExternalNodeSpec{0, kSamplesNode, Role::kSamples, ""},
           ExternalNodeSpec{1, kTransceiverNode, Role::kTransceiver,
-                           phy_config_to_json(transceiver_phy())}};
+                           phy_to_json("dsss", transceiver_phy().settings)}};
 }
 
 ExternalClient::Settings client_settings(const std::string& path, NodeId id,
@@ -123,14 +122,14 @@ TEST(ExternalHub, TransceiverClientsWelcomeCarriesItsPhySettings) {
   EXPECT_EQ(w.sample_rate_hz, hs.sample_rate_hz);
   EXPECT_EQ(w.tick_samples, hs.tick_samples);
   EXPECT_FALSE(w.virtual_time);
-  const scenario::PhyConfig expected = transceiver_phy();
-  const scenario::PhyConfig got = phy_config_from_json(w.phy_json);
+  const scenario::PhyChoice expected = transceiver_phy();
+  const PhyRequest got = phy_from_json(w.phy_json);
   EXPECT_EQ(got.type, expected.type);
-  EXPECT_EQ(got.code, expected.code);
-  EXPECT_EQ(got.modulation, expected.modulation);
-  EXPECT_EQ(got.samples_per_chip, expected.samples_per_chip);
-  EXPECT_EQ(got.max_payload_bytes, expected.max_payload_bytes);
-  EXPECT_EQ(phy_config_to_json(got), phy_config_to_json(expected));
+  EXPECT_EQ(got.settings.get<std::string>("code"), "gold31:3");
+  EXPECT_EQ(got.settings.get<std::string>("modulation"), "dqpsk");
+  EXPECT_EQ(got.settings.get<std::uint64_t>("samples_per_chip"), 2U);
+  EXPECT_EQ(got.settings.get<std::uint64_t>("max_payload_bytes"), 321U);
+  EXPECT_EQ(got.settings, expected.settings);
 }
 
 TEST(ExternalHub, HubHasLinksOnlyForExternalNodes) {

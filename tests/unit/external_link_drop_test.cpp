@@ -14,6 +14,7 @@
 #include "rfsitl/external/external_hub.hpp"
 #include "rfsitl/external/external_transceivers.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
+#include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::external {
 namespace {
@@ -27,7 +28,7 @@ constexpr std::uint32_t kB = 250;
 /// A hub with one transceiver-role node (GMSK) and the engine's proxy for it.
 struct IdleNode {
   SocketPath path;
-  scenario::PhyConfig phy;
+  scenario::PhyChoice phy;
   std::unique_ptr<ExternalHub> hub;
   std::shared_ptr<NodeLink> link;
   std::unique_ptr<phy::Transceiver> proxy;
@@ -38,7 +39,7 @@ struct IdleNode {
     hs.socket_path = path.str();
     hs.tick_samples = kB;
     hub = make_external_hub(
-        hs, {ExternalNodeSpec{0, kNode, Role::kTransceiver, phy_config_to_json(phy)}});
+        hs, {ExternalNodeSpec{0, kNode, Role::kTransceiver, phy_to_json(phy.type, phy.settings)}});
     link = hub->link(0);
     proxy = make_remote_transceiver(link, phy);
   }

@@ -21,6 +21,7 @@
 #include "rfsitl/external/repeat_limiter.hpp"
 #include "rfsitl/external/retry_backoff.hpp"
 #include "rfsitl/external/transceiver_node.hpp"
+#include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::external {
 namespace {
@@ -172,9 +173,10 @@ HubSettings hub_settings(const std::string& path) {
 
 /// Node 3 runs the samples role, node 4 the transceiver role (GMSK).
 std::vector<ExternalNodeSpec> two_nodes() {
-  scenario::PhyConfig phy;
+  scenario::PhyChoice phy;
   return {ExternalNodeSpec{0, kSamplesNode, Role::kSamples, ""},
-          ExternalNodeSpec{1, kTransceiverNode, Role::kTransceiver, phy_config_to_json(phy)}};
+          ExternalNodeSpec{1, kTransceiverNode, Role::kTransceiver,
+                           phy_to_json(phy.type, phy.settings)}};
 }
 
 /// Tries to join as node `id` in `role`; returns the refusal reason ("" if admitted).

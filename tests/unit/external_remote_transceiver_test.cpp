@@ -1,6 +1,6 @@
 /// The role "transceiver" proxy (make_remote_transceiver) against the real
 /// `rfsitl node` loop (run_transceiver_node) in a thread: the same calls must
-/// give the same results as the in-process transceiver of the same PhyConfig.
+/// give the same results as the in-process transceiver of the same PHY choice.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,6 +24,7 @@
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/external/transceiver_node.hpp"
 #include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::external {
 namespace {
@@ -117,13 +118,13 @@ struct OneNodeHub {
   std::unique_ptr<ExternalHub> hub;
   std::shared_ptr<NodeLink> link;
 
-  explicit OneNodeHub(const scenario::PhyConfig& phy, std::string phy_json = {}) {
+  explicit OneNodeHub(const scenario::PhyChoice& phy, std::string phy_json = {}) {
     HubSettings hs;
     hs.socket_path = path.str();
     hs.reply_timeout_ms = 3000;
     hs.tick_samples = kB;
     hs.virtual_time = true;
-    if (phy_json.empty()) phy_json = phy_config_to_json(phy);
+    if (phy_json.empty()) phy_json = phy_to_json(phy.type, phy.settings);
     hub = make_external_hub(hs, {ExternalNodeSpec{0, kNode, Role::kTransceiver, phy_json}});
     link = hub->link(0);
   }
@@ -256,11 +257,10 @@ struct PhyCase {
 class ExternalRemoteTransceiverEquivalence : public ::testing::TestWithParam<PhyCase> {};
 
 TEST_P(ExternalRemoteTransceiverEquivalence, BehavesExactlyLikeTheInProcessTransceiver) {
-  scenario::PhyConfig phy;
-  phy.type = GetParam().type;
+  const scenario::PhyChoice phy = scenario::PhyChoice::of(GetParam().type);
   OneNodeHub h(phy);
   const auto remote = make_remote_transceiver(h.link, phy);
-  const auto local = phy::make_transceiver(phy);
+  const auto local = phy::make_transceiver(phy.type, phy.settings);
 
   // Lengths and sensitivity come from the proxy's local shadow.
   EXPECT_TRUE(remote->remote());
@@ -372,10 +372,10 @@ INSTANTIATE_TEST_SUITE_P(External, ExternalRemoteTransceiverEquivalence,
                          });
 
 TEST(ExternalRemoteTransceiver, ResetMidFrameAbandonsTheFrameOnBothSides) {
-  scenario::PhyConfig phy;  // gmsk
+  const scenario::PhyChoice phy;  // gmsk
   OneNodeHub h(phy);
   const auto remote = make_remote_transceiver(h.link, phy);
-  const auto local = phy::make_transceiver(phy);
+  const auto local = phy::make_transceiver(phy.type, phy.settings);
   NodeProcess node(h.path.str(), kNode);
   ASSERT_TRUE(join(*remote, *h.link, 0));
 
@@ -403,7 +403,7 @@ TEST(ExternalRemoteTransceiver, ResetMidFrameAbandonsTheFrameOnBothSides) {
 }
 
 TEST(ExternalRemoteTransceiver, WhileTheNodeProcessIsAwayTheQueueHoldsAndTheNodeIsSilent) {
-  scenario::PhyConfig phy;  // gmsk
+  const scenario::PhyChoice phy;  // gmsk
   OneNodeHub h(phy);
   const auto remote = make_remote_transceiver(h.link, phy);
   DecodeLog log;
@@ -451,7 +451,7 @@ TEST(ExternalRemoteTransceiver, WhileTheNodeProcessIsAwayTheQueueHoldsAndTheNode
   ASSERT_TRUE(join(*remote, *h.link, 3));
   EXPECT_EQ(h.link->joins(), 2U);
   EXPECT_FALSE(remote->tx_busy()) << "the rejoined PHY is idle";
-  const auto local = phy::make_transceiver(phy);
+  const auto local = phy::make_transceiver(phy.type, phy.settings);
   Twin twin(*remote, *local, 3);
   std::vector<cf32> air;
   const auto payload = make_payload(40, 2);
@@ -462,7 +462,7 @@ TEST(ExternalRemoteTransceiver, WhileTheNodeProcessIsAwayTheQueueHoldsAndTheNode
 }
 
 TEST(ExternalRemoteTransceiver, NodeProcessExitsWithAnErrorForAPhyItCannotBuild) {
-  scenario::PhyConfig phy;
+  scenario::PhyChoice phy;
   phy.type = "no-such-phy";
   OneNodeHub h(phy);
   NodeProcess node(h.path.str(), kNode);

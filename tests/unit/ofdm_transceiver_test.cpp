@@ -1,6 +1,6 @@
 // The OFDM transceiver end to end: frames built by its TX path and received by
 // another instance's RX path, through noise, carrier offset and multipath.
-#include "rfsitl/phy/ofdm_transceiver.hpp"
+#include "rfsitl/phy/ofdm/ofdm_transceiver.hpp"
 
 #include <gtest/gtest.h>
 

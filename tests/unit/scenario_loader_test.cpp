@@ -15,6 +15,8 @@
 #include <string>
 #include <variant>
 
+#include "rfsitl/phy/phy_registry.hpp"
+
 namespace rfsitl::scenario {
 namespace {
 
@@ -91,10 +93,10 @@ TEST(ParseScenario, FullScenarioReadsEveryValue) {
   EXPECT_EQ(s.ports.net_base, 20000);
   EXPECT_EQ(s.ports.loc_base, 20005);
   EXPECT_EQ(s.phy.type, "gmsk");
-  EXPECT_EQ(s.phy.samples_per_symbol, 4U);
-  EXPECT_FLOAT_EQ(s.phy.bandwidth_time, 0.3F);
-  EXPECT_EQ(s.phy.filter_delay_symbols, 4U);
-  EXPECT_EQ(s.phy.max_payload_bytes, 1000U);
+  EXPECT_EQ(s.phy.settings.get<std::uint64_t>("samples_per_symbol"), 4U);
+  EXPECT_DOUBLE_EQ(s.phy.settings.get<double>("bandwidth_time"), 0.3);
+  EXPECT_EQ(s.phy.settings.get<std::uint64_t>("filter_delay_symbols"), 4U);
+  EXPECT_EQ(s.phy.max_payload_bytes(), 1000U);
   EXPECT_EQ(s.phy.tx_queue_frames, 8U);
   EXPECT_EQ(s.channel.model, "paper");
   EXPECT_DOUBLE_EQ(s.channel.path_loss_exponent, 2.5);
@@ -150,12 +152,7 @@ TEST(ParseScenario, AbsentSectionsKeepTheStructDefaults) {
   EXPECT_EQ(s.ports.bind_address, d.ports.bind_address);
   EXPECT_EQ(s.ports.net_base, d.ports.net_base);
   EXPECT_EQ(s.ports.loc_base, d.ports.loc_base);
-  EXPECT_EQ(s.phy.type, d.phy.type);
-  EXPECT_EQ(s.phy.samples_per_symbol, d.phy.samples_per_symbol);
-  EXPECT_EQ(s.phy.bandwidth_time, d.phy.bandwidth_time);
-  EXPECT_EQ(s.phy.filter_delay_symbols, d.phy.filter_delay_symbols);
-  EXPECT_EQ(s.phy.max_payload_bytes, d.phy.max_payload_bytes);
-  EXPECT_EQ(s.phy.tx_queue_frames, d.phy.tx_queue_frames);
+  EXPECT_EQ(s.phy, d.phy);
   EXPECT_EQ(s.channel.model, d.channel.model);
   EXPECT_EQ(s.channel.path_loss_exponent, d.channel.path_loss_exponent);
   EXPECT_EQ(s.channel.noise_variance, d.channel.noise_variance);
@@ -200,7 +197,17 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
   // Each case: a scenario with one mistake, and the whole message it must produce.
   const std::pair<const char*, const char*> cases[] = {
       {"nodes: [{id: 1}]\nphy:\n  type: gmsk\n  bandwidth_time: 1.5\n",
-       "t.yaml:4: phy.bandwidth_time: must be in (0, 1), got 1.5"},
+       "t.yaml:4: phy.bandwidth_time: must be in [0.2, 1], got 1.5"},
+      {"nodes: [{id: 1}]\nphy:\n  type: gmsk\n  samples_per_symbol: 12\n",
+       "t.yaml:4: phy.samples_per_symbol: must be in 2..8, got 12"},
+      {"nodes: [{id: 1}]\nphy:\n  type: gmsk-liquid\n  bandwidth_time: 1\n",
+       "t.yaml:4: phy.bandwidth_time: must be in (0, 1), got 1"},
+      {"nodes: [{id: 1}]\nphy:\n  rate_mbps: 24\n",
+       "t.yaml:3: phy.rate_mbps: is a setting of phy type ofdm, not of gmsk (whose settings "
+       "are: samples_per_symbol, bandwidth_time, filter_delay_symbols, max_payload_bytes)"},
+      {"nodes: [{id: 1}]\nphy:\n  type: gmsk\n  bogus: 1\n",
+       "t.yaml:4: phy.bogus: unknown key (allowed in phy: type, process, tx_queue_frames, "
+       "samples_per_symbol, bandwidth_time, filter_delay_symbols, max_payload_bytes)"},
       {"nodes: [{id: 1}]\ntime:\n  tick_samples: 0\n",
        "t.yaml:3: time.tick_samples: must be in 1..1048576, got 0"},
       {"nodes: [{id: 1}]\ntime:\n  tick_samples: 2.5\n",
@@ -220,8 +227,6 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
        "t.yaml:3: nodes[0].position: mixes lat/lon/alt with x/y/z; use one form"},
       {"nodes: []\n", "t.yaml:1: nodes: must list 1..254 nodes, got 0"},
       {"name: x\n", "t.yaml:1: nodes: required"},
-      {"nodes: [{id: 1}]\nphy:\n  type: lora\n",
-       "t.yaml:3: phy.type: unknown 'lora' (known: dsss, gmsk, gmsk-liquid, ofdm, external)"},
       {"nodes: [{id: 1}]\nchannel:\n  model: free_space\n",
        "t.yaml:3: channel.model: unknown 'free_space' (known: paper)"},
       {"nodes: [{id: 1}]\nchannel:\n  origin: {x: 1, y: 2}\n",
@@ -269,8 +274,8 @@ TEST(ParseScenario, ExternalSectionAndProcessesAreRead) {
   EXPECT_TRUE(s.runs_externally(0));
   EXPECT_TRUE(s.runs_externally(1));
   EXPECT_FALSE(s.runs_externally(2));
-  EXPECT_EQ(s.phy_of(0).process, "child");
-  EXPECT_EQ(s.phy_of(2).process, "inline");
+  EXPECT_EQ(s.phy_of(0).process, Process::kChild);
+  EXPECT_EQ(s.phy_of(2).process, Process::kInline);
 }
 
 TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {
@@ -334,6 +339,13 @@ TEST(ValidateScenario, AcceptsAStructBuiltScenario) {
   EXPECT_NO_THROW(validate_scenario(s));
 }
 
+TEST(ParseScenario, UnknownPhyTypeListsTheRegisteredOnes) {
+  std::string known;
+  for (const auto& name : phy::known_phy_types()) known += (known.empty() ? "" : ", ") + name;
+  EXPECT_EQ(error_of("nodes: [{id: 1}]\nphy:\n  type: lora\n"),
+            "t.yaml:3: phy.type: unknown 'lora' (known: " + known + ")");
+}
+
 TEST(ValidateScenario, ReportsWithSourceScenarioAndNoLine) {
   Scenario s;
   EXPECT_EQ(validation_error_of(s), "scenario: nodes: must list 1..254 nodes, got 0");
@@ -342,9 +354,14 @@ TEST(ValidateScenario, ReportsWithSourceScenarioAndNoLine) {
   s.nodes = {{0, std::nullopt, std::nullopt}};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[0].id: must be in 1..254, got 0");
   s.nodes = {{1, std::nullopt, std::nullopt}};
-  s.phy.bandwidth_time = 1.0F;
-  EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: must be in (0, 1), got 1");
-  s.phy = PhyConfig{};
+  s.phy.settings.set("bandwidth_time", 0.1);
+  EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: must be in [0.2, 1], got 0.1");
+  s.phy.settings.set("bandwidth_time", std::uint64_t{1});
+  EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: expected a number, got 1");
+  s.phy = PhyChoice{};
+  s.phy.settings.set("rate_mbps", std::uint64_t{6});
+  EXPECT_EQ(validation_error_of(s), "scenario: phy.rate_mbps: not a setting of phy gmsk");
+  s.phy = PhyChoice{};
   s.ports.loc_base = s.ports.net_base;  // node 1's two ports would be one
   EXPECT_EQ(
       validation_error_of(s),
@@ -461,18 +478,22 @@ TEST(ShippedScenarios, EveryLinkIsWellAbove20dB) {
 namespace rfsitl::scenario {
 namespace {
 
-TEST(ParseScenario, NodePhyStartsFromTheScenarioPhyAndOverridesItsKeys) {
+TEST(ParseScenario, NodePhyInheritsTheScenarioPhysSettingsOnlyForTheSameType) {
   const Scenario s = parse_scenario(
-      "phy: {type: gmsk, max_payload_bytes: 500, tx_queue_frames: 8}\n"
-      "nodes:\n  - id: 1\n  - id: 2\n    phy: {type: ofdm, rate_mbps: 24}\n",
+      "phy: {type: gmsk, max_payload_bytes: 500, samples_per_symbol: 4, tx_queue_frames: 8}\n"
+      "nodes:\n  - id: 1\n  - id: 2\n    phy: {type: ofdm, rate_mbps: 24}\n"
+      "  - id: 3\n    phy: {type: gmsk, max_payload_bytes: 100}\n",
       "t.yaml");
-  ASSERT_EQ(s.nodes.size(), 2U);
+  ASSERT_EQ(s.nodes.size(), 3U);
   EXPECT_FALSE(s.nodes[0].phy.has_value());
   ASSERT_TRUE(s.nodes[1].phy.has_value());
   EXPECT_EQ(s.nodes[1].phy->type, "ofdm");
-  EXPECT_EQ(s.nodes[1].phy->rate_mbps, 24U);
-  EXPECT_EQ(s.nodes[1].phy->max_payload_bytes, 500U);  // inherited
-  EXPECT_EQ(s.nodes[1].phy->tx_queue_frames, 8U);      // inherited
+  EXPECT_EQ(s.nodes[1].phy->settings.get<std::uint64_t>("rate_mbps"), 24U);
+  EXPECT_EQ(s.nodes[1].phy->max_payload_bytes(), 2048U);  // ofdm's default, not gmsk's 500
+  EXPECT_EQ(s.nodes[1].phy->tx_queue_frames, 8U);         // every PHY's: inherited
+  ASSERT_TRUE(s.nodes[2].phy.has_value());
+  EXPECT_EQ(s.nodes[2].phy->settings.get<std::uint64_t>("samples_per_symbol"), 4U);  // inherited
+  EXPECT_EQ(s.nodes[2].phy->max_payload_bytes(), 100U);
 }
 
 TEST(ParseScenario, NodePhyErrorsNameTheNodeKeyAndLine) {
@@ -495,10 +516,11 @@ TEST(ParseScenario, DsssNodeSettingsAreReadAndChecked) {
       "samples_per_chip: 2, adaptive: true}\n",
       "t.yaml");
   ASSERT_TRUE(s.nodes[0].phy.has_value());
-  EXPECT_EQ(s.nodes[0].phy->code, "mseq127");
-  EXPECT_EQ(s.nodes[0].phy->modulation, "dqpsk");
-  EXPECT_EQ(s.nodes[0].phy->samples_per_chip, 2U);
-  EXPECT_TRUE(s.nodes[0].phy->adaptive);
+  const config::Settings& p = s.nodes[0].phy->settings;
+  EXPECT_EQ(p.get<std::string>("code"), "mseq127");
+  EXPECT_EQ(p.get<std::string>("modulation"), "dqpsk");
+  EXPECT_EQ(p.get<std::uint64_t>("samples_per_chip"), 2U);
+  EXPECT_TRUE(p.get<bool>("adaptive"));
   EXPECT_TRUE(error_of("nodes:\n  - id: 1\n    phy: {type: dsss, code: gold255}\n")
                   .starts_with("t.yaml:3: nodes[0].phy.code: "));
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    phy: {type: dsss, modulation: d8psk}\n"),

@@ -85,8 +85,10 @@ TEST(ScenarioRules, AdaptationNeedsACodeWithAGoldFamily) {
             "in 31, 63, 127, 511, 1023), but code is 'barker11'");
   EXPECT_NO_THROW(
       parse_scenario("nodes: [{id: 1}]\nphy: {type: dsss, code: gold31, adaptive: true}\n", "t"));
-  // A GMSK node ignores the dsss-only setting.
-  EXPECT_NO_THROW(parse_scenario("nodes: [{id: 1}]\nphy: {type: gmsk, adaptive: true}\n", "t"));
+  // A GMSK node has no such setting: it is refused, naming whose it is.
+  EXPECT_EQ(file_error("nodes: [{id: 1}]\nphy: {type: gmsk, adaptive: true}\n"),
+            "t.yaml:2: phy.adaptive: is a setting of phy type dsss, not of gmsk (whose settings "
+            "are: samples_per_symbol, bandwidth_time, filter_delay_symbols, max_payload_bytes)");
 }
 
 TEST(ScenarioRules, MisspeltTopLevelKeyIsNamedBeforeMissingNodes) {

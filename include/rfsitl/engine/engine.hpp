@@ -89,7 +89,7 @@ class Engine {
 /// Builds node `index`'s transceiver from its PHY settings (the split
 /// architecture substitutes proxies for transceivers in other processes).
 using TransceiverFactory = std::function<std::unique_ptr<phy::Transceiver>(
-    std::size_t index, const scenario::PhyConfig& phy)>;
+    std::size_t index, const scenario::PhyChoice& phy)>;
 
 /// Builds the engine for a validated scenario. Transceivers come from `factory`,
 /// or from the PHY registry when it is empty. Throws std::invalid_argument on

@@ -17,7 +17,7 @@ namespace rfsitl::external {
 /// While the process is away the node is silent and its TX queue holds
 /// (tx_busy() is true), so no frame is started into the void.
 std::unique_ptr<phy::Transceiver> make_remote_transceiver(std::shared_ptr<NodeLink> link,
-                                                          const scenario::PhyConfig& phy);
+                                                          const scenario::PhyChoice& phy);
 
 /// Role "samples": a program that owns the node's net port (a GNU Radio
 /// flowgraph) and exchanges B samples per tick. Its receiver always runs (the

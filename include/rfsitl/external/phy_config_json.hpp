@@ -1,15 +1,23 @@
 #pragma once
-/// PHY settings as JSON: how the emulator tells an `rfsitl node` process which
-/// transceiver to build.
+/// A PHY choice as JSON: how the emulator tells an `rfsitl node` process which
+/// transceiver to build. {"type": "ofdm", "settings": {"rate_mbps": 24, ...}},
+/// the settings being those the PHY declares (config/settings_json.hpp).
 #include <string>
+#include <string_view>
 
-#include "rfsitl/scenario/scenario.hpp"
+#include "rfsitl/config/settings.hpp"
 
 namespace rfsitl::external {
 
-std::string phy_config_to_json(const scenario::PhyConfig& phy);
+struct PhyRequest {
+  std::string type;
+  config::Settings settings;
+};
 
-/// Throws std::invalid_argument naming the field that is missing or mistyped.
-scenario::PhyConfig phy_config_from_json(const std::string& json);
+std::string phy_to_json(std::string_view type, const config::Settings& settings);
+
+/// Reads and validates a request against the PHY registry. Throws
+/// std::invalid_argument naming what is missing, unknown or out of range.
+PhyRequest phy_from_json(const std::string& json);
 
 }  // namespace rfsitl::external

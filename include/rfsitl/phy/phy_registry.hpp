@@ -1,20 +1,32 @@
 #pragma once
-/// Transceivers are chosen by name in the scenario ("gmsk", ...). Each PHY
-/// registers a factory here; the engine never names a concrete class.
+/// Transceivers are chosen by name in the scenario ("gmsk", ...). The engine,
+/// the scenario reader and `rfsitl describe` find them here and never name a
+/// concrete class.
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
-#include "rfsitl/phy/transceiver.hpp"
-#include "rfsitl/scenario/scenario.hpp"
+#include "rfsitl/phy/phy_component.hpp"
 
 namespace rfsitl::phy {
 
-/// Builds the transceiver `config.type` names. Throws std::invalid_argument
-/// naming the unknown type and listing the known ones.
-std::unique_ptr<Transceiver> make_transceiver(const scenario::PhyConfig& config);
+/// Every registered PHY, sorted by name. Thread-safe (built once, then constant).
+const std::vector<PhyComponent>& phy_components();
 
-/// Names accepted by make_transceiver, sorted.
+/// The PHY named `type`, or nullptr.
+const PhyComponent* find_phy(std::string_view type);
+
+/// The registered names, sorted.
 std::vector<std::string> known_phy_types();
+
+/// Builds a transceiver of `type` with `settings` (validated here). Throws
+/// std::invalid_argument naming an unknown type (and listing the known ones), a
+/// type that is an external program, or the setting at fault.
+std::unique_ptr<Transceiver> make_transceiver(std::string_view type,
+                                              const config::Settings& settings);
+
+/// `type` with its declared defaults (e.g. for tests and benchmarks).
+std::unique_ptr<Transceiver> make_transceiver(std::string_view type);
 
 }  // namespace rfsitl::phy

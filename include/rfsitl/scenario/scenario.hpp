@@ -4,30 +4,67 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/common/types.hpp"
+#include "rfsitl/config/settings.hpp"
+#include "rfsitl/phy/phy_component.hpp"
 
 namespace rfsitl::scenario {
 
-/// Transceiver type and parameters. Fields that a type does not use are ignored.
-struct PhyConfig {
-  std::string type = "gmsk";  ///< "gmsk", "gmsk-liquid", "ofdm", "dsss" or "external"
-  /// Where a built-in transceiver runs: "inline" (a worker thread of the
-  /// emulator) or "child" (its own `rfsitl node` process: the split
-  /// architecture). Type "external" is always another program.
-  std::string process = "inline";
-  unsigned rate_mbps = 6;             ///< ofdm: 802.11a/g rate at 20 MHz (6 ... 54)
-  std::string code = "barker11";      ///< dsss: barker11, mseq<N>, gold<N>[:k]
-  std::string modulation = "dbpsk";   ///< dsss: dbpsk or dqpsk
-  unsigned samples_per_chip = 1;      ///< dsss: 1..8
-  bool adaptive = false;              ///< dsss: cognitive code adaptation (Gold codes)
-  unsigned samples_per_symbol = 2;    ///< k, >= 2
-  unsigned filter_delay_symbols = 3;  ///< m, 1..16
-  float bandwidth_time = 0.5F;        ///< BT, (0, 1)
-  std::size_t max_payload_bytes = 2048;
-  std::size_t tx_queue_frames = 64;  ///< bounded TX queue per node
+/// Where a built-in transceiver runs: a worker thread of the emulator, or its
+/// own `rfsitl node` process (the split architecture). A PHY of kind
+/// kExternalProgram is always another program, whatever this says.
+enum class Process { kInline, kChild };
+
+/// "inline" or "child".
+std::string_view process_name(Process p);
+
+/// A node's transceiver: which registered PHY (phy_registry.hpp), where it runs,
+/// its TX queue, and the PHY's own declared settings. What the settings may be
+/// is the PHY's business; the scenario module only checks them against the
+/// PHY's declarations.
+struct PhyChoice {
+  std::string type = "gmsk";
+  Process process = Process::kInline;
+  std::size_t tx_queue_frames = 64;  ///< bounded TX queue per node (frames)
+  config::Settings settings = phy_defaults("gmsk");
+
+  /// The declared settings of `type` at their defaults (empty for an unknown type).
+  static config::Settings phy_defaults(std::string_view type);
+
+  /// PHY `type` at its defaults, e.g. PhyChoice::of("ofdm").with("rate_mbps", 24U).
+  static PhyChoice of(std::string type) {
+    PhyChoice p;
+    p.settings = phy_defaults(type);
+    p.type = std::move(type);
+    return p;
+  }
+  /// This choice with one setting changed (for tests and tools; a scenario file
+  /// is checked by the reader).
+  PhyChoice with(std::string_view key, config::Value value) const {
+    PhyChoice p = *this;
+    p.settings.set(key, std::move(value));
+    return p;
+  }
+  PhyChoice with(std::string_view key, unsigned value) const {
+    return with(key, config::Value(std::uint64_t{value}));
+  }
+
+  /// The registered PHY. Precondition: `type` is registered (validated scenarios).
+  const phy::PhyComponent& component() const;
+  /// True when another program is the transceiver (type "external").
+  bool external_program() const;
+  /// True when the transceiver is another process: an external program or a child.
+  bool runs_externally() const;
+  /// The largest payload a frame carries (0 for an external program).
+  std::size_t max_payload_bytes() const;
+  /// A few words for the banner: "ofdm 24 Mbit/s", "gmsk", "gmsk-liquid samples_per_symbol=4".
+  std::string label() const;
+
+  bool operator==(const PhyChoice&) const = default;
 };
 
 struct NodeConfig {
@@ -35,7 +72,7 @@ struct NodeConfig {
   /// Where the node starts; nullopt until its location feed reports (no links meanwhile).
   std::optional<Position> initial_position;
   /// This node's transceiver, when it differs from the scenario's `phy`.
-  std::optional<PhyConfig> phy;
+  std::optional<PhyChoice> phy;
 };
 
 struct ChannelConfig {
@@ -90,7 +127,7 @@ struct Scenario {
   std::string name = "default";
   std::uint64_t seed = 1;
   std::vector<NodeConfig> nodes;
-  PhyConfig phy;
+  PhyChoice phy;
   ChannelConfig channel;
   TimingConfig timing;
   PortConfig ports;
@@ -98,14 +135,11 @@ struct Scenario {
   ExternalConfig external;
   std::vector<TrafficItem> traffic;
 
-  const PhyConfig& phy_of(std::size_t node) const {
+  const PhyChoice& phy_of(std::size_t node) const {
     return nodes[node].phy ? *nodes[node].phy : phy;
   }
   /// True when node `node`'s transceiver is another process.
-  bool runs_externally(std::size_t node) const {
-    const PhyConfig& p = phy_of(node);
-    return p.type == "external" || p.process == "child";
-  }
+  bool runs_externally(std::size_t node) const { return phy_of(node).runs_externally(); }
 };
 
 }  // namespace rfsitl::scenario

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm_transceiver.hpp"
+#include "rfsitl/phy/ofdm/ofdm_transceiver.hpp"
 
 #include <algorithm>
 #include <cmath>

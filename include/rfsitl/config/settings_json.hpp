@@ -1,0 +1,18 @@
+#pragma once
+/// Settings as JSON, e.g. how the emulator tells an `rfsitl node` process which
+/// transceiver to build.
+#include <nlohmann/json.hpp>
+
+#include "rfsitl/config/component_info.hpp"
+
+namespace rfsitl::config {
+
+/// {"name": value, ...} in declaration order.
+nlohmann::json to_json(const Settings& s);
+
+/// Reads `j` (an object) as settings of `component`: every declared key must be
+/// present and of its type (an integer is accepted for a real), no other key may
+/// be, and the values are validated. Throws SettingError.
+Settings settings_from_json(const ComponentInfo& component, const nlohmann::json& j);
+
+}  // namespace rfsitl::config

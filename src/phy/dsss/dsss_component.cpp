@@ -1,0 +1,62 @@
+// Registration of the direct-sequence spread-spectrum transceiver as PHY "dsss".
+#include <stdexcept>
+
+#include "rfsitl/config/fields.hpp"
+#include "rfsitl/phy/dsss/code_adaptation.hpp"
+#include "rfsitl/phy/dsss/codes.hpp"
+#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
+#include "rfsitl/phy/phy_component.hpp"
+
+namespace rfsitl::phy {
+namespace {
+
+void check_code(const DsssSettings& s) {
+  dsss::SpreadingCode code;
+  try {
+    code = dsss::code_by_name(s.code);
+  } catch (const std::invalid_argument& e) {
+    throw config::SettingError("code", e.what());
+  }
+  // Adaptation moves between members of the code's Gold family; a code without
+  // one (barker11, mseq255) leaves it nothing to choose from.
+  if (s.adaptive && dsss::adaptation_candidates(code, 2).size() < 2) {
+    throw config::SettingError("adaptive",
+                               "needs a code with a Gold family (mseq<N> or gold<N> with N in "
+                               "31, 63, 127, 511, 1023), but code is '" +
+                                   s.code + "'");
+  }
+}
+
+const config::Fields<DsssSettings>& fields() {
+  using S = DsssSettings;
+  static const auto f =
+      config::Fields<S>()
+          .text("code", &S::code,
+                "spreading code: barker11, mseq<N> (N = 2^n - 1, n = 5..10) or gold<N>[:k] "
+                "(N = 31, 63, 127, 511, 1023; k = family member)")
+          .choice("modulation", &S::modulation, {"dbpsk", "dqpsk"},
+                  "differential BPSK (1 bit per code period) or QPSK (2 bits)")
+          .integer("samples_per_chip", &S::samples_per_chip, "samples", 1, 8,
+                   "samples per chip; the chip rate is fs / this")
+          .integer(std::string(kMaxPayloadSetting), &S::max_payload_bytes, "bytes", 1, 65535,
+                   "largest payload of one frame")
+          .flag("adaptive", &S::adaptive, "cognitive code adaptation among the code's Gold family")
+          .rule(check_code);
+  return f;
+}
+
+}  // namespace
+
+PhyComponent dsss_component() {
+  return {fields().info("phy", "dsss",
+                        "direct-sequence spread spectrum with differential PSK and optional "
+                        "code adaptation"),
+          TransceiverKind::kBuiltIn,
+          [](const config::Settings& s) { return make_dsss_transceiver(fields().build(s)); },
+          [](const config::Settings& s) {
+            const DsssSettings d = fields().build(s);
+            return "dsss " + d.code + " " + d.modulation + (d.adaptive ? " adaptive" : "");
+          }};
+}
+
+}  // namespace rfsitl::phy
