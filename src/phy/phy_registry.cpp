@@ -5,7 +5,7 @@
 
 // The built-in PHYs, one entry each: adding a PHY is a folder under src/phy/
 // that defines `PhyComponent <name>_component()`, and its name here.
-#define RFSITL_PHYS(X) X(gmsk) X(gmsk_liquid) X(ofdm) X(dsss) X(external_program)
+#define RFSITL_PHYS(X) X(gmsk) X(gmsk_liquid) X(ofdm) X(dsss) X(gfsk) X(external_program)
 
 namespace rfsitl::phy {
 
