@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 int main(int argc, char** argv) {

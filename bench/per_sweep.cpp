@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "rfsitl/engine/engine.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace {
 
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   app.add_option(
       "--only", only,
       "Measure only these curves (gmsk, gmsk-liquid, ofdm6 ... ofdm54, dsss-barker11-dbpsk, "
-      "dsss-barker11-dqpsk, dsss-mseq31-dbpsk, dsss-mseq127-dbpsk)");
+      "dsss-barker11-dqpsk, dsss-mseq31-dbpsk, dsss-mseq127-dbpsk, gfsk-energy-h1, gfsk-sik)");
   CLI11_PARSE(app, argc, argv);
 
   struct Curve {
@@ -103,6 +103,16 @@ int main(int argc, char** argv) {
                        .with("modulation", std::string(modulation));
     curves.push_back({std::string("dsss-") + code + "-" + modulation, p, std::min(from, start)});
   }
+  // GFSK at 8 samples per bit: the energy detector with orthogonal tones (h = 1,
+  // no shaping), which is the non-coherent BFSK theory's detector, and the
+  // SiK-like defaults (h = 2, BT = 0.5, FM discriminator).
+  curves.push_back({"gfsk-energy-h1",
+                    scenario::PhyChoice::of("gfsk")
+                        .with("receiver", std::string("energy"))
+                        .with("modulation_index", 1.0)
+                        .with("bandwidth_time", 0.0),
+                    from});
+  curves.push_back({"gfsk-sik", scenario::PhyChoice::of("gfsk"), from});
   std::ofstream out(csv);
   out << "phy,snr_db,frames,delivered,per\n";
   for (const auto& [label, phy, start] : curves) {

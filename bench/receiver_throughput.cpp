@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "bench_signals.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 namespace {

@@ -50,11 +50,25 @@ def dsss_dbpsk_theory(chips):
     return per
 
 
+# GFSK at k = 8 samples per bit: non-coherent orthogonal binary FSK,
+# BER = exp(-Eb / 2N0) / 2, Eb/N0 = 8 SNR. The CRCs cover the 10-byte header
+# (with its CRC-16) and the payload with its CRC-16: 8 * (10 + 80 + 2) = 736 bits.
+# Only the energy detector at h = 1 (orthogonal tones) is that theory's receiver;
+# the SiK-like discriminator is drawn against the same curve to show its gap.
+GFSK_BITS = 8 * (10 + 80 + 2)
+
+
+def gfsk_noncoherent_theory(snr_db):
+    ber = 0.5 * math.exp(-8 * 10 ** (snr_db / 10.0) / 2.0)
+    return 1.0 - (1.0 - ber) ** GFSK_BITS
+
+
 THEORY = {
     "gmsk": ("coherent MSK bound (uncoded GMSK)", gmsk_theory),
     "dsss-barker11-dbpsk": ("DSSS DBPSK L=11 theory", dsss_dbpsk_theory(11)),
     "dsss-mseq31-dbpsk": ("DSSS DBPSK L=31 theory", dsss_dbpsk_theory(31)),
     "dsss-mseq127-dbpsk": ("DSSS DBPSK L=127 theory", dsss_dbpsk_theory(127)),
+    "gfsk-energy-h1": ("non-coherent BFSK theory (k = 8)", gfsk_noncoherent_theory),
 }
 
 
@@ -100,8 +114,13 @@ def main():
                             markersize=3, label=name)
         s10, s1 = crossing(pts, 0.1, floor), crossing(pts, 0.01, floor)
         theory = ""
-        # Both GMSK implementations are compared with the one GMSK formula.
-        key = "gmsk" if name.startswith("gmsk") else name
+        # Both GMSK implementations are compared with the one GMSK formula, and
+        # both GFSK receivers with the non-coherent BFSK one.
+        key = name
+        if name.startswith("gmsk"):
+            key = "gmsk"
+        elif name.startswith("gfsk"):
+            key = "gfsk-energy-h1"
         if key in THEORY:
             label, fn = THEORY[key]
             xs = [x / 10 for x in range(int(pts[0][0] * 10) - 20, int(pts[-1][0] * 10) + 1)]

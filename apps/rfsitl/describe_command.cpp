@@ -7,7 +7,7 @@
 
 #include "commands.hpp"
 #include "rfsitl/config/settings_table.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::app {
 namespace {

@@ -18,7 +18,7 @@
 #include "rfsitl/engine/tick_clock.hpp"
 #include "rfsitl/engine/traffic_schedule.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::engine {
 namespace {

@@ -4,7 +4,7 @@
 
 #include "rfsitl/external/external_transceivers.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::external {
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rfsitl/config/settings_json.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::external {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "rfsitl/external/external_transceivers.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::external {
 namespace {

@@ -13,7 +13,7 @@
 #include "rfsitl/external/external_client.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/external/retry_backoff.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::external {
 namespace {

@@ -22,7 +22,7 @@
 #include "rfsitl/monitor/request_checks.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
 #include "rfsitl/monitor/viewer_queue.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 #include "web_assets.hpp"
 
 namespace rfsitl::monitor {

@@ -1,7 +1,7 @@
 #include <stdexcept>
 
 #include "rfsitl/config/setting.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::scenario {

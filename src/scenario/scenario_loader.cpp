@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "rfsitl/config/setting.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 #include "scenario_rules.hpp"
 
 namespace rfsitl::scenario {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 #include "scenario_rules.hpp"
 
 namespace rfsitl::scenario::detail {

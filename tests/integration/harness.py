@@ -84,9 +84,13 @@ class Emulator:
         with open(self.scenario, "w") as f:
             f.write(scenario_yaml(nodes, extra_yaml, node_phy))
         self.summary_path = os.path.join(self.dir.name, "summary.json")
+        # Any free dashboard port: on the default 15700 a poller of an earlier
+        # run (another test, or a run beside this suite) could reach this one.
+        dashboard = [] if "--dashboard-port" in args or "--no-dashboard" in args else [
+            "--dashboard-port", "0"]
         self.args = [BIN, "run", self.scenario, "--net-base", str(self.net_base),
                      "--loc-base", str(self.loc_base), "--stats-interval", "0",
-                     "--summary-json", self.summary_path, *args]
+                     "--summary-json", self.summary_path, *dashboard, *args]
         self.ready_timeout = ready_timeout
         self.output = []
         self.proc = None

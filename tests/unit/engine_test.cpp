@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::engine {
 namespace {

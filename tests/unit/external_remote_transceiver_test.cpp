@@ -23,7 +23,7 @@
 #include "rfsitl/external/external_transceivers.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/external/transceiver_node.hpp"
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::external {

@@ -1,6 +1,6 @@
 /// The PHY registry: every PHY found by name, built from its declared defaults,
 /// and refused with the name of what is wrong.
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 #include <gtest/gtest.h>
 

@@ -15,7 +15,7 @@
 #include <string>
 #include <variant>
 
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::scenario {
 namespace {

@@ -2,7 +2,7 @@
 /// What a PHY registers: its self-description (name, doc, declared settings),
 /// what kind of transceiver it is, and how to build one. A PHY is one folder
 /// under src/phy/ that defines `PhyComponent <folder>_component()`, plus one
-/// line in src/phy/phy_registry.cpp.
+/// line in src/registry/phy_registry.cpp.
 #include <functional>
 #include <memory>
 #include <string>

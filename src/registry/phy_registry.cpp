@@ -1,10 +1,11 @@
-#include "rfsitl/phy/phy_registry.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
 // The built-in PHYs, one entry each: adding a PHY is a folder under src/phy/
-// that defines `PhyComponent <name>_component()`, and its name here.
+// (with a CMakeLists.txt building rfsitl_<folder>) that defines
+// `PhyComponent <folder>_component()`, and the folder's name here.
 #define RFSITL_PHYS(X) X(gmsk) X(gmsk_liquid) X(ofdm) X(dsss) X(gfsk) X(external_program)
 
 namespace rfsitl::phy {

@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""Checks the module layering: every `#include "rfsitl/..."` crosses only into a
+module that the including module depends on (its CMake target_link_libraries,
+directly or through them), and no two modules include each other, directly or
+in a ring.
+
+A module is a folder: include/rfsitl/<m>/ with src/<m>/ (one per library), a
+PHY folder phy/<name>/ (its own library), and apps/. Usage:
+
+    scripts/check_modules.py [ROOT]        # exit 0 when clean, 1 with the errors
+"""
+
+import os
+import re
+import sys
+
+INCLUDE_RE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"rfsitl/([^"]+)"', re.M)
+CALL_RE = re.compile(r"\b(add_library|add_executable|target_link_libraries)\s*\(([^)]*)\)", re.S)
+
+
+def module_of(rel):
+    """'src/phy/gmsk/x.cpp' -> 'phy/gmsk'; 'include/rfsitl/engine/e.hpp' -> 'engine'."""
+    parts = rel.split("/")
+    if parts[0] == "apps":
+        return "apps"
+    if parts[0] == "include":
+        parts = parts[2:]  # drop include/rfsitl
+    elif parts[0] == "src":
+        parts = parts[1:]
+    else:
+        return None
+    if len(parts) < 2:
+        return None
+    if parts[0] == "phy" and len(parts) > 2:
+        return "phy/" + parts[1]
+    return parts[0]
+
+
+def read_cmake_graph(root):
+    """{module: set of modules it links}, from every CMakeLists.txt under src/ and apps/."""
+    target_module = {}
+    links = {}
+    phy_components = set()
+    for top in ("src", "apps"):
+        for dirpath, _, files in os.walk(os.path.join(root, top)):
+            if "CMakeLists.txt" not in files:
+                continue
+            rel_dir = os.path.relpath(dirpath, root)
+            with open(os.path.join(dirpath, "CMakeLists.txt"), encoding="utf-8") as f:
+                text = re.sub(r"#[^\n]*", "", f.read())
+            for kind, args in CALL_RE.findall(text):
+                words = args.split()
+                if not words:
+                    continue
+                name = words[0]
+                if kind in ("add_library", "add_executable"):
+                    if not name.startswith("rfsitl"):
+                        continue
+                    parts = rel_dir.split("/")
+                    if parts[0] == "apps":
+                        module = "apps"
+                    elif len(parts) >= 3 and parts[1] == "phy":
+                        module = "phy/" + parts[2]
+                        phy_components.add(module)
+                    else:
+                        module = name[len("rfsitl_"):]
+                    target_module[name] = module
+                else:
+                    deps = links.setdefault(name, set())
+                    for w in words[1:]:
+                        if w.startswith("rfsitl_") or w == "${RFSITL_PHY_COMPONENT_LIBRARIES}":
+                            deps.add(w)
+    graph = {m: set() for m in target_module.values()}
+    for target, deps in links.items():
+        if target not in target_module:
+            continue
+        m = target_module[target]
+        for d in deps:
+            if d == "${RFSITL_PHY_COMPONENT_LIBRARIES}":
+                graph[m] |= phy_components
+            elif d in target_module:
+                graph[m].add(target_module[d])
+    return graph
+
+
+def closure(graph, start):
+    seen, todo = set(), [start]
+    while todo:
+        for d in graph.get(todo.pop(), ()):
+            if d not in seen:
+                seen.add(d)
+                todo.append(d)
+    return seen
+
+
+def find_cycle(graph):
+    """One cycle as a list of modules [a, b, ..., a], or None."""
+    state = {}
+    stack = []
+
+    def visit(m):
+        state[m] = "open"
+        stack.append(m)
+        for d in sorted(graph.get(m, ())):
+            if state.get(d) == "open":
+                return stack[stack.index(d):] + [d]
+            if d not in state:
+                found = visit(d)
+                if found:
+                    return found
+        stack.pop()
+        state[m] = "done"
+        return None
+
+    for m in sorted(graph):
+        if m not in state:
+            found = visit(m)
+            if found:
+                return found
+    return None
+
+
+def check(root):
+    errors = []
+    declared = read_cmake_graph(root)
+    cycle = find_cycle(declared)
+    if cycle:
+        errors.append("CMake libraries link in a ring: " + " -> ".join(cycle))
+    included = {}
+    where = {}
+    for top in ("include", "src", "apps"):
+        for dirpath, _, files in os.walk(os.path.join(root, top)):
+            for name in sorted(files):
+                if not name.endswith((".hpp", ".cpp", ".h")):
+                    continue
+                path = os.path.join(dirpath, name)
+                rel = os.path.relpath(path, root)
+                mod = module_of(rel)
+                if mod is None:
+                    continue
+                with open(path, encoding="utf-8", errors="replace") as f:
+                    text = f.read()
+                for match in INCLUDE_RE.finditer(text):
+                    target = module_of("include/rfsitl/" + match.group(1))
+                    if target is None or target == mod:
+                        continue
+                    line = text.count("\n", 0, match.start()) + 1
+                    included.setdefault(mod, set()).add(target)
+                    where.setdefault((mod, target), f"{rel}:{line}")
+                    if mod not in declared:
+                        errors.append(f"{rel}:{line}: module {mod} has no library in CMake")
+                    elif target not in closure(declared, mod):
+                        errors.append(
+                            f"{rel}:{line}: includes rfsitl/{match.group(1)} (module {target}), "
+                            f"but module {mod} does not link it; declare the dependency in "
+                            f"CMake or move the code")
+    cycle = find_cycle(included)
+    if cycle:
+        steps = [f"{a} -> {b} ({where[(a, b)]})" for a, b in zip(cycle, cycle[1:])]
+        errors.append("modules include each other in a ring: " + "; ".join(steps))
+    return errors, declared
+
+
+def main():
+    root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
+    errors, declared = check(os.path.abspath(root))
+    for e in errors:
+        print(e)
+    if not errors:
+        print(f"module layering: {len(declared)} modules, includes follow the declared "
+              f"dependencies, no cycles")
+    return 1 if errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,73 @@
+"""The module layering check (scripts/check_modules.py): clean on this tree, and
+failing, with the file, line and ring named, when an include crosses into a
+module that is not a declared dependency or closes a cycle."""
+
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+from harness import SOURCE_DIR
+
+CHECK = os.path.join(SOURCE_DIR, "scripts", "check_modules.py")
+
+
+def run_check(root):
+    return subprocess.run([sys.executable, CHECK, root], capture_output=True, text=True,
+                          timeout=120)
+
+
+class ModuleLayeringTest(unittest.TestCase):
+    def copy_tree(self, d):
+        for top in ("include", "src", "apps"):
+            shutil.copytree(os.path.join(SOURCE_DIR, top), os.path.join(d, top))
+
+    def inject(self, d, rel, include):
+        with open(os.path.join(d, rel), "a", encoding="utf-8") as f:
+            f.write(f'\n#include "{include}"\n')
+        with open(os.path.join(d, rel), encoding="utf-8") as f:
+            text = f.read()
+        return text[:text.rindex("#include")].count("\n") + 1
+
+    def test_this_tree_is_clean(self):
+        r = run_check(SOURCE_DIR)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("no cycles", r.stdout)
+
+    def test_a_cycle_between_scenario_and_engine_is_caught(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.copy_tree(d)
+            # The engine includes the scenario; make the scenario include the engine.
+            line = self.inject(d, "src/scenario/phy_choice.cpp", "rfsitl/engine/engine.hpp")
+            r = run_check(d)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        self.assertIn(f"src/scenario/phy_choice.cpp:{line}: includes rfsitl/engine/engine.hpp "
+                      "(module engine), but module scenario does not link it", r.stdout)
+        self.assertIn("modules include each other in a ring: ", r.stdout)
+        self.assertIn("scenario -> engine (src/scenario/phy_choice.cpp", r.stdout)
+
+    def test_a_phy_reaching_into_the_engine_is_caught(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.copy_tree(d)
+            line = self.inject(d, "src/phy/gmsk/gmsk_component.cpp",
+                               "rfsitl/engine/frame_ledger.hpp")
+            r = run_check(d)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        self.assertIn(f"src/phy/gmsk/gmsk_component.cpp:{line}: includes "
+                      "rfsitl/engine/frame_ledger.hpp (module engine), but module phy/gmsk does "
+                      "not link it", r.stdout)
+
+    def test_libraries_linked_in_a_ring_are_caught(self):
+        with tempfile.TemporaryDirectory() as d:
+            self.copy_tree(d)
+            with open(os.path.join(d, "src", "CMakeLists.txt"), "a", encoding="utf-8") as f:
+                f.write("\ntarget_link_libraries(rfsitl_channel PUBLIC rfsitl_engine)\n")
+            r = run_check(d)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        self.assertIn("CMake libraries link in a ring: ", r.stdout)
+
+
+if __name__ == "__main__":
+    unittest.main()
