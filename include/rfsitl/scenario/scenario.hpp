@@ -1,6 +1,7 @@
 #pragma once
 /// Everything a run needs, as read from a scenario file (YAML) or built from
 /// defaults. Units are in the field names.
+#include <concepts>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -49,7 +50,10 @@ struct PhyChoice {
     p.settings.set(key, std::move(value));
     return p;
   }
-  PhyChoice with(std::string_view key, unsigned value) const {
+  /// Integers: with("rate_mbps", 24U). (A template, so that a double such as
+  /// 1.0 is not converted to an integer by overload resolution.)
+  template <std::unsigned_integral U>
+  PhyChoice with(std::string_view key, U value) const {
     return with(key, config::Value(std::uint64_t{value}));
   }
 
