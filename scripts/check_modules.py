@@ -5,7 +5,9 @@ directly or through them), and no two modules include each other, directly or
 in a ring.
 
 A module is a folder: include/rfsitl/<m>/ with src/<m>/ (one per library), a
-PHY folder phy/<name>/ (its own library), and apps/. Usage:
+component folder src/<m>/<name>/ with its own CMakeLists.txt (a PHY such as
+phy/gmsk, a position source such as position/mavlink) with
+include/rfsitl/<m>/<name>/, and apps/. Usage:
 
     scripts/check_modules.py [ROOT]        # exit 0 when clean, 1 with the errors
 """
@@ -16,6 +18,22 @@ import sys
 
 INCLUDE_RE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"rfsitl/([^"]+)"', re.M)
 CALL_RE = re.compile(r"\b(add_library|add_executable|target_link_libraries)\s*\(([^)]*)\)", re.S)
+
+
+def component_folders(root):
+    """{'phy/gmsk', 'position/mavlink', ...}: folders src/<m>/<name>/ with a CMakeLists.txt."""
+    found = set()
+    src = os.path.join(root, "src")
+    for m in os.listdir(src):
+        if not os.path.isdir(os.path.join(src, m)):
+            continue
+        for name in os.listdir(os.path.join(src, m)):
+            if os.path.isfile(os.path.join(src, m, name, "CMakeLists.txt")):
+                found.add(f"{m}/{name}")
+    return found
+
+
+COMPONENTS = set()
 
 
 def module_of(rel):
@@ -31,8 +49,8 @@ def module_of(rel):
         return None
     if len(parts) < 2:
         return None
-    if parts[0] == "phy" and len(parts) > 2:
-        return "phy/" + parts[1]
+    if len(parts) > 2 and f"{parts[0]}/{parts[1]}" in COMPONENTS:
+        return f"{parts[0]}/{parts[1]}"
     return parts[0]
 
 
@@ -59,9 +77,10 @@ def read_cmake_graph(root):
                     parts = rel_dir.split("/")
                     if parts[0] == "apps":
                         module = "apps"
-                    elif len(parts) >= 3 and parts[1] == "phy":
-                        module = "phy/" + parts[2]
-                        phy_components.add(module)
+                    elif len(parts) >= 3:
+                        module = f"{parts[1]}/{parts[2]}"
+                        if parts[1] == "phy":
+                            phy_components.add(module)
                     else:
                         module = name[len("rfsitl_"):]
                     target_module[name] = module
@@ -122,6 +141,8 @@ def find_cycle(graph):
 
 def check(root):
     errors = []
+    COMPONENTS.clear()
+    COMPONENTS.update(component_folders(root))
     declared = read_cmake_graph(root)
     cycle = find_cycle(declared)
     if cycle:
