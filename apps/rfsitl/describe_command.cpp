@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "rfsitl/config/settings_table.hpp"
+#include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::app {
@@ -22,6 +23,7 @@ struct DescribeOptions {
 std::vector<const config::ComponentInfo*> all_components() {
   std::vector<const config::ComponentInfo*> out;
   for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
+  for (const auto& m : position::mobility::mobility_components()) out.push_back(&m.info);
   return out;
 }
 
@@ -77,7 +79,7 @@ int describe(const DescribeOptions& o) {
     return 0;
   }
   for (const auto* c : matches) {
-    std::printf("%-6s %-14s %s\n", c->kind.c_str(), c->name.c_str(), c->doc.c_str());
+    std::printf("%-8s %-15s %s\n", c->kind.c_str(), c->name.c_str(), c->doc.c_str());
   }
   std::printf("\n`rfsitl describe KIND NAME` prints a component's settings.\n");
   return 0;

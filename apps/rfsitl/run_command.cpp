@@ -27,6 +27,7 @@
 #include "rfsitl/io/node_servers.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/json_text.hpp"
+#include "rfsitl/monitor/node_counter_report.hpp"
 #include "rfsitl/monitor/pcap_trace.hpp"
 #include "rfsitl/monitor/sigmf_recorder.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
@@ -169,11 +170,12 @@ void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const auto& n = s.nodes[i];
     const bool own_net = !s.phy_of(i).external_program();
-    std::printf("  node %3u: %-26s net %s:%u%s  location %s:%u  start %s\n", n.id,
+    const std::string where = n.mobility ? "moves: mobility " + n.mobility->type
+                                         : "start " + format_position(n.initial_position);
+    std::printf("  node %3u: %-26s net %s:%u%s  location %s:%u  %s\n", n.id,
                 s.phy_of(i).label().c_str(), sc.bind_address.c_str(),
                 io::NodeServers::net_port(sc, n.id), own_net ? "" : " (its program's)",
-                sc.bind_address.c_str(), io::NodeServers::loc_port(sc, n.id),
-                format_position(n.initial_position).c_str());
+                sc.bind_address.c_str(), io::NodeServers::loc_port(sc, n.id), where.c_str());
   }
 }
 
@@ -205,41 +207,8 @@ void print_summary(engine::Engine& e) {
       "\nrfsitl summary: virtual %.3f s in %.3f s wall, worst real-time lag %.2f ms, "
       "late ticks %llu\n",
       st.virtual_s, st.wall_s, 1e3 * st.max_lag_s, static_cast<unsigned long long>(st.late_ticks));
-  using Snapshot = engine::NodeCountersSnapshot;
-  struct Column {
-    const char* title;
-    std::uint64_t (*value)(const Snapshot&);
-  };
-  static constexpr Column kColumns[] = {
-      {"in", [](const Snapshot& c) { return c.handed_in; }},
-      {"tx", [](const Snapshot& c) { return c.transmitted; }},
-      {"delivered", [](const Snapshot& c) { return c.delivered; }},
-      {"lost:sen", [](const Snapshot& c) { return c.lost[0]; }},
-      {"lost:col", [](const Snapshot& c) { return c.lost[1]; }},
-      {"lost:hd", [](const Snapshot& c) { return c.lost[2]; }},
-      {"lost:dec", [](const Snapshot& c) { return c.lost[3]; }},
-      {"lost:dst", [](const Snapshot& c) { return c.lost[4]; }},
-      {"q-drop", [](const Snapshot& c) { return c.queue_dropped; }},
-      {"pending", [](const Snapshot& c) { return c.pending(); }},
-      {"received", [](const Snapshot& c) { return c.received; }},
-      {"crc-fail", [](const Snapshot& c) { return c.rx_crc_failures; }},
-      {"to-agent-drop", [](const Snapshot& c) { return c.to_agent_dropped; }},
-      {"frame-err", [](const Snapshot& c) { return c.framing_errors; }},
-      {"loc-ok", [](const Snapshot& c) { return c.location_updates; }},
-      {"loc-bad", [](const Snapshot& c) { return c.location_errors; }},
-  };
-  std::printf("%5s", "node");
-  for (const Column& col : kColumns) std::printf(" %8s", col.title);
-  std::printf("\n");
-  for (std::size_t i = 0; i < e.num_nodes(); ++i) {
-    const Snapshot c = e.counters(i).snapshot();
-    std::printf("%5u", e.node_ids()[i]);
-    for (const Column& col : kColumns) {
-      std::printf(" %*llu", static_cast<int>(std::max<std::size_t>(8, std::strlen(col.title))),
-                  static_cast<unsigned long long>(col.value(c)));
-    }
-    std::printf("\n");
-  }
+  std::fputs(monitor::node_counters_table(e.node_ids(), monitor::all_node_counters(e)).c_str(),
+             stdout);
   std::fflush(stdout);
 }
 

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "event_reporter.hpp"
+#include "mobility_driver.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/channel/link_model.hpp"
@@ -99,6 +100,7 @@ class LockStepEngine final : public Engine {
                s.timing.mode == scenario::TimeMode::kRealTime),
         pool_(worker_count(s)),
         traffic_(s.traffic, s.timing.sample_rate_hz),
+        mobility_(s),
         reporter_(scenario_, channel_) {
     const std::size_t n = s.nodes.size();
     nodes_.resize(n);
@@ -290,6 +292,8 @@ class LockStepEngine final : public Engine {
       }
       geometry_stale_ = true;
     }
+    // After the feeds: a modelled node follows its model again at each update.
+    if (mobility_.update(now_, channel_)) geometry_stale_ = true;
     if (geometry_stale_ && now_ >= next_geometry_copy_) publish_geometry();
   }
 
@@ -542,6 +546,7 @@ class LockStepEngine final : public Engine {
   std::optional<channel::NoiseSource> shared_noise_;
   std::vector<cf32> shared_noise_buf_;
   TrafficSchedule traffic_;
+  MobilityDriver mobility_;
   SampleTime now_ = 0;
   std::uint64_t run_ticks_ = 0;
   std::uint64_t skipped_ticks_ = 0;

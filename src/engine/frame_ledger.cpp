@@ -3,22 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rfsitl/engine/node_counter_fields.hpp"
+
 namespace rfsitl::engine {
 
 std::string_view loss_reason_name(LossReason r) {
-  switch (r) {
-    case LossReason::kBelowSensitivity:
-      return "below_sensitivity";
-    case LossReason::kCollision:
-      return "collision";
-    case LossReason::kHalfDuplex:
-      return "half_duplex";
-    case LossReason::kDecodeFailure:
-      return "decode_failure";
-    case LossReason::kUnknownDestination:
-      return "unknown_destination";
-  }
-  return "?";
+  const auto i = static_cast<std::size_t>(r);
+  return i < kLossReasons.size() ? kLossReasons[i].key : "?";
 }
 
 NodeCountersSnapshot NodeCounters::snapshot() const {

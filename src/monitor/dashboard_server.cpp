@@ -18,6 +18,7 @@
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/json_text.hpp"
+#include "rfsitl/monitor/node_counter_report.hpp"
 #include "rfsitl/monitor/position_request.hpp"
 #include "rfsitl/monitor/request_checks.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
@@ -120,7 +121,8 @@ class Server final : public Dashboard {
                   {"control", settings_.control},
                   {"sample_rate_hz", scenario_.timing.sample_rate_hz},
                   {"spectrum_bins", LiveView::kSpectrumBins},
-                  {"node_ids", engine_.node_ids()}};
+                  {"node_ids", engine_.node_ids()},
+                  {"counters", node_counter_fields_json()}};
     v->send({std::make_shared<const std::string>(json_text(hello)), MessageKind::kEssential});
     // A new viewer needs the link matrix, which later snapshots carry only
     // when something moved.
@@ -276,6 +278,7 @@ class Server final : public Dashboard {
   asio::io_context io_;
   tcp::acceptor acceptor_{io_};
   asio::steady_timer timer_;
+  asio::steady_timer accept_retry_{io_};
   std::uint16_t port_ = 0;
   std::vector<std::weak_ptr<ViewerSession>> viewers_;
   std::atomic<std::size_t> viewer_count_{0};
@@ -338,7 +341,17 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
 void Server::accept() {
   acceptor_.async_accept([this](beast::error_code ec, tcp::socket s) {
-    if (ec) return;  // closed
+    if (ec == asio::error::operation_aborted || !acceptor_.is_open()) return;  // closed
+    if (ec) {
+      // Out of descriptors (EMFILE) and the like pass: try again shortly rather
+      // than stop serving for good.
+      spdlog::warn("dashboard: cannot accept a connection ({}); retrying in 100 ms", ec.message());
+      accept_retry_.expires_after(std::chrono::milliseconds(100));
+      accept_retry_.async_wait([this](const boost::system::error_code& wait_ec) {
+        if (!wait_ec) accept();
+      });
+      return;
+    }
     std::make_shared<HttpSession>(std::move(s), *this)->start();
     accept();
   });

@@ -5,34 +5,10 @@
 #include <sstream>
 
 #include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/monitor/node_counter_report.hpp"
 
 namespace rfsitl::monitor {
 namespace {
-
-std::string reason_name(std::size_t r) {
-  return std::string(engine::loss_reason_name(static_cast<engine::LossReason>(r)));
-}
-
-nlohmann::json node_json(const scenario::Scenario& s, engine::Engine& e, std::size_t i) {
-  const auto c = e.counters(i).snapshot();
-  nlohmann::json n;
-  n["id"] = e.node_ids()[i];
-  n["phy"] = s.phy_of(i).type;
-  n["handed_in"] = c.handed_in;
-  n["queue_dropped"] = c.queue_dropped;
-  n["transmitted"] = c.transmitted;
-  n["delivered"] = c.delivered;
-  for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) n["lost"][reason_name(r)] = c.lost[r];
-  n["pending"] = c.pending();
-  n["received"] = c.received;
-  n["rx_crc_failures"] = c.rx_crc_failures;
-  n["framing_errors"] = c.framing_errors;
-  n["to_agent_dropped"] = c.to_agent_dropped;
-  n["location_updates"] = c.location_updates;
-  n["location_errors"] = c.location_errors;
-  n["queue_depth"] = e.queue_depth(i);
-  return n;
-}
 
 /// Rounds to `decimals` places (multiplying by 10^d, not dividing by 10^-d,
 /// keeps the printed number short).
@@ -58,7 +34,13 @@ nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e) {
   j["receiver_ticks_skipped"] = st.receiver_ticks_skipped;
   j["receiver_ticks_blanked"] = st.receiver_ticks_blanked;
   j["nodes"] = nlohmann::json::array();
-  for (std::size_t i = 0; i < e.num_nodes(); ++i) j["nodes"].push_back(node_json(s, e, i));
+  const auto counters = all_node_counters(e);
+  for (std::size_t i = 0; i < counters.size(); ++i) {
+    nlohmann::json n = node_counters_json(counters[i]);
+    n["id"] = e.node_ids()[i];
+    n["phy"] = s.phy_of(i).type;
+    j["nodes"].push_back(std::move(n));
+  }
   return j;
 }
 
@@ -136,6 +118,12 @@ std::string prometheus_help_text(std::string_view v) {
   return out;
 }
 
+void prometheus_family(std::ostream& o, std::string_view name, std::string_view type,
+                       std::string_view help) {
+  o << "# HELP " << name << ' ' << prometheus_help_text(help) << "\n# TYPE " << name << ' ' << type
+    << '\n';
+}
+
 namespace {
 
 /// The shortest text that reads back as `v` (a stream's default 6 digits
@@ -152,8 +140,7 @@ std::string number(double v) {
 std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e) {
   std::ostringstream o;
   const auto family = [&o](std::string_view name, std::string_view type, std::string_view help) {
-    o << "# HELP " << name << ' ' << prometheus_help_text(help) << "\n# TYPE " << name << ' '
-      << type << '\n';
+    prometheus_family(o, name, type, help);
   };
   const engine::EngineStatus st = e.status();
   family("rfsitl_virtual_seconds", "gauge", "Virtual time emulated so far.");
@@ -173,56 +160,12 @@ std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e) {
   o << "rfsitl_receiver_ticks_total{state=\"run\"} " << st.receiver_ticks_run << '\n'
     << "rfsitl_receiver_ticks_total{state=\"skipped\"} " << st.receiver_ticks_skipped << '\n'
     << "rfsitl_receiver_ticks_total{state=\"blanked\"} " << st.receiver_ticks_blanked << '\n';
-  std::vector<engine::NodeCountersSnapshot> c;
-  for (std::size_t i = 0; i < e.num_nodes(); ++i) c.push_back(e.counters(i).snapshot());
-  const auto node_label = [&](std::size_t i) {
-    return "node=\"" + std::to_string(unsigned{e.node_ids()[i]}) + "\"";
-  };
-  // Every per-node number of stats_json (node_json above), under the same meaning.
-  const auto per_node = [&](const char* name, const char* type, const char* help, auto get) {
-    family(name, type, help);
-    for (std::size_t i = 0; i < c.size(); ++i) {
-      o << name << '{' << node_label(i) << "} " << get(c[i], i) << '\n';
-    }
-  };
-  using Snap = engine::NodeCountersSnapshot;
-  per_node("rfsitl_frames_handed_in_total", "counter", "Frames the agent handed in.",
-           [](const Snap& n, std::size_t) { return n.handed_in; });
-  per_node("rfsitl_frames_queue_dropped_total", "counter", "Frames refused by the full TX queue.",
-           [](const Snap& n, std::size_t) { return n.queue_dropped; });
-  per_node("rfsitl_frames_transmitted_total", "counter", "Frames that went on the air.",
-           [](const Snap& n, std::size_t) { return n.transmitted; });
-  per_node("rfsitl_frames_delivered_total", "counter", "Own frames that reached their destination.",
-           [](const Snap& n, std::size_t) { return n.delivered; });
-  family("rfsitl_frames_lost_total", "counter", "Own frames lost on the air, by reason.");
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    for (std::size_t r = 0; r < engine::kNumLossReasons; ++r) {
-      o << "rfsitl_frames_lost_total{" << node_label(i) << ",reason=\""
-        << prometheus_label_value(reason_name(r)) << "\"} " << c[i].lost[r] << '\n';
-    }
-  }
-  per_node("rfsitl_frames_pending", "gauge",
-           "Frames handed in without a final outcome yet (queued, on the air, being decoded).",
-           [](const Snap& n, std::size_t) { return n.pending(); });
-  per_node("rfsitl_frames_received_total", "counter", "Frames decoded and handed to the agent.",
-           [](const Snap& n, std::size_t) { return n.received; });
-  per_node("rfsitl_rx_crc_failures_total", "counter", "Decodes that failed the CRC.",
-           [](const Snap& n, std::size_t) { return n.rx_crc_failures; });
-  per_node("rfsitl_framing_errors_total", "counter",
-           "Net-port frames refused (oversized or too short).",
-           [](const Snap& n, std::size_t) { return n.framing_errors; });
-  per_node("rfsitl_frames_to_agent_dropped_total", "counter",
-           "Frames decoded for the node but not handed to its agent (none connected, backlog).",
-           [](const Snap& n, std::size_t) { return n.to_agent_dropped; });
-  per_node("rfsitl_location_updates_total", "counter", "Good location-port lines.",
-           [](const Snap& n, std::size_t) { return n.location_updates; });
-  per_node("rfsitl_location_errors_total", "counter", "Location-port lines refused.",
-           [](const Snap& n, std::size_t) { return n.location_errors; });
-  per_node("rfsitl_tx_queue_depth", "gauge", "Frames waiting in the TX queue.",
-           [&](const Snap&, std::size_t i) { return e.queue_depth(i); });
+  // Every per-node number of stats_json, under the same meaning.
+  const auto counters = all_node_counters(e);
+  write_node_counter_metrics(o, e.node_ids(), counters);
   family("rfsitl_node_info", "gauge", "Each node's PHY (value always 1).");
-  for (std::size_t i = 0; i < c.size(); ++i) {
-    o << "rfsitl_node_info{" << node_label(i) << ",phy=\""
+  for (std::size_t i = 0; i < counters.size(); ++i) {
+    o << "rfsitl_node_info{node=\"" << unsigned{e.node_ids()[i]} << "\",phy=\""
       << prometheus_label_value(s.phy_of(i).type) << "\"} 1\n";
   }
   family("rfsitl_info", "gauge", "The running scenario (value always 1).");

@@ -17,6 +17,7 @@
 #include <concepts>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "rfsitl/config/setting.hpp"
+#include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "scenario_rules.hpp"
 
@@ -289,6 +291,34 @@ config::Value read_value(const Context& c, const Entry& e, const config::Setting
   return v;
 }
 
+// The settings `info` declares, read from `sec` into `settings` (which holds
+// their values so far), then checked with the component's own rules. `others`
+// (components of the same kind) name the owner of a key this one lacks.
+void read_declared(Context& c, Section& sec, const Entry& at, const config::ComponentInfo& info,
+                   const std::vector<const config::ComponentInfo*>& others,
+                   config::Settings& settings) {
+  for (const config::Setting& d : info.settings) {
+    if (const Entry e = sec.take(d.name)) settings.set(d.name, read_value(c, e, d));
+  }
+  // A setting of another component is the likeliest mistake: say whose it is.
+  for (const std::string& key : sec.unknown_keys()) {
+    for (const config::ComponentInfo* other : others) {
+      if (other->find(key) == nullptr) continue;
+      std::string own;
+      for (const config::Setting& d : info.settings) own += (own.empty() ? "" : ", ") + d.name;
+      c.fail(at.key + "." + key, "is a setting of " + info.kind + " type " + other->name +
+                                     ", not of " + info.name + " (whose settings are: " + own +
+                                     ")");
+    }
+  }
+  sec.finish();
+  try {
+    info.validate(settings);
+  } catch (const config::SettingError& e) {
+    c.fail(e.key().empty() ? at.key : at.key + "." + e.key(), e.what());
+  }
+}
+
 // `type` picks a registered PHY; a type other than the current one starts from
 // that PHY's defaults (so a node inherits the scenario's PHY settings only when
 // its type is the same). `process` and `tx_queue_frames` are every PHY's; the
@@ -309,26 +339,28 @@ void read_phy(Context& c, const Entry& at, PhyChoice& p) {
     p.process = name == "child" ? Process::kChild : Process::kInline;
   }
   sec.get("tx_queue_frames", p.tx_queue_frames, kTxQueue);
-  const config::ComponentInfo& info = p.component().info;
-  for (const config::Setting& d : info.settings) {
-    if (const Entry e = sec.take(d.name)) p.settings.set(d.name, read_value(c, e, d));
+  std::vector<const config::ComponentInfo*> phys;
+  for (const phy::PhyComponent& other : phy::phy_components()) phys.push_back(&other.info);
+  read_declared(c, sec, at, p.component().info, phys, p.settings);
+}
+
+// `mobility: {type: orbit, radius_m: 50}`: a registered model and its settings.
+std::optional<MobilityChoice> read_mobility(Context& c, const Entry& at) {
+  if (!at || at.value.IsNull()) return std::nullopt;
+  Section sec(c, at);
+  const Entry type = sec.require("type");
+  MobilityChoice m{text(c, type), {}};
+  std::vector<const config::ComponentInfo*> models;
+  std::vector<std::string> names;
+  for (const auto& model : position::mobility::mobility_components()) {
+    models.push_back(&model.info);
+    names.push_back(model.info.name);
   }
-  // A setting of another PHY is the likeliest mistake: say whose it is.
-  for (const std::string& key : sec.unknown_keys()) {
-    for (const phy::PhyComponent& other : phy::phy_components()) {
-      if (other.info.find(key) == nullptr) continue;
-      std::string own;
-      for (const config::Setting& d : info.settings) own += (own.empty() ? "" : ", ") + d.name;
-      c.fail(at.key + "." + key, "is a setting of phy type " + other.info.name + ", not of " +
-                                     p.type + " (whose settings are: " + own + ")");
-    }
-  }
-  sec.finish();
-  try {
-    info.validate(p.settings);
-  } catch (const config::SettingError& e) {
-    c.fail(at.key + "." + e.key(), e.what());
-  }
+  c.check_name(m.type, type.key, names);
+  const config::ComponentInfo& info = position::mobility::find_mobility(m.type)->info;
+  m.settings = info.defaults();
+  read_declared(c, sec, at, info, models, m.settings);
+  return m;
 }
 
 void read_channel(Context& c, const Entry& at, ChannelConfig& ch) {
@@ -364,6 +396,7 @@ void read_engine(Context& c, const Entry& at, EngineConfig& e) {
   sec.get("threads", e.threads, kThreads);
   sec.get("skip_idle_receivers", e.skip_idle_receivers);
   sec.get("stats_interval_s", e.stats_interval_s);
+  sec.get("mobility_update_s", e.mobility_update_s);
   sec.finish();
 }
 
@@ -388,6 +421,7 @@ NodeConfig read_node(Context& c, const Entry& at, const PhyChoice& scenario_phy)
   NodeConfig n;
   n.id = node_id(c, sec, "id", kNodeIdLimit);
   n.initial_position = read_position(c, sec.take("position"));
+  n.mobility = read_mobility(c, sec.take("mobility"));
   if (const Entry phy = sec.take("phy")) {
     n.phy = scenario_phy;
     read_phy(c, phy, *n.phy);
@@ -473,7 +507,9 @@ Scenario load_scenario_file(const std::string& path) {
     }
   }
   if (std::ferror(file.get())) throw unreadable();  // e.g. a directory: EISDIR
-  return parse_scenario(contents, path);
+  Scenario s = parse_scenario(contents, path);
+  s.source_dir = std::filesystem::path(path).parent_path().string();
+  return s;
 }
 
 void validate_scenario(const Scenario& s) {

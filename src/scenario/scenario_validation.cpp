@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "scenario_rules.hpp"
 
@@ -138,6 +139,18 @@ void validate(const Scenario& s, const Context& c) {
   }
   check_phy(c, s.phy, "phy");
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const auto& m = s.nodes[i].mobility;
+    if (!m) continue;
+    const std::string key = "nodes[" + std::to_string(i) + "].mobility";
+    const auto* model = position::mobility::find_mobility(m->type);
+    if (model == nullptr) c.fail(key + ".type", "unknown '" + m->type + "'");
+    try {
+      model->info.validate(m->settings);
+    } catch (const config::SettingError& e) {
+      c.fail(e.key().empty() ? key : key + "." + e.key(), e.what());
+    }
+  }
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (const auto& p = s.nodes[i].phy) check_phy(c, *p, "nodes[" + std::to_string(i) + "].phy");
   }
   c.check_name(s.channel.model, "channel.model", kChannelModels);
@@ -158,6 +171,7 @@ void validate(const Scenario& s, const Context& c) {
   c.check(s.timing.duration_s, "time.duration_s", kNonNegative);
   c.check(s.engine.threads, "engine.threads", kThreads);
   c.check(s.engine.stats_interval_s, "engine.stats_interval_s", kNonNegative);
+  c.check(s.engine.mobility_update_s, "engine.mobility_update_s", RealLimit{1e-6, 3600});
   c.check(s.external.reply_timeout_s, "external.reply_timeout_s", kPositive);
   c.check(s.external.start_timeout_s, "external.start_timeout_s", kNonNegative);
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {

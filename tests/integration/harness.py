@@ -181,6 +181,13 @@ class Emulator:
         self._clients.append(c)
         return c
 
+    def dashboard_port(self):
+        """The port the running emulator's dashboard serves."""
+        m = re.search(r"rfsitl: dashboard http://[^/]*:(\d+)/", "".join(self.output))
+        if not m:
+            raise AssertionError("the emulator printed no dashboard URL")
+        return int(m.group(1))
+
     def stats(self):
         """The running emulator's /api/stats (its dashboard must be on)."""
         import re

@@ -43,7 +43,7 @@ class DescribeTest(unittest.TestCase):
         self.assertRegex(r.stderr, r"no phy named 'lora' \(known: dsss, external, .*gmsk.*\)")
         r = cli("describe", "antenna")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("unknown kind 'antenna' (known: phy)", r.stderr)
+        self.assertIn("unknown kind 'antenna' (known: phy, mobility)", r.stderr)
 
     def test_scenario_readme_tables_are_the_generated_ones(self):
         with open(os.path.join(SOURCE_DIR, "scenarios", "README.md"), encoding="utf-8") as f:

@@ -21,6 +21,7 @@
 #include <string>
 #include <thread>
 
+#include "monitor_test_scenario.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/scenario/scenario.hpp"
@@ -33,26 +34,6 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 using Headers = std::map<http::field, std::string>;
-
-class NullSink final : public engine::FrameSink {
- public:
-  void deliver(std::size_t, NetFrame&&) override {}
-};
-
-/// Nodes 1 and 2, 10 m apart at 10 m height, virtual time.
-inline scenario::Scenario two_nodes(double duration_s = 0.01) {
-  scenario::Scenario s;
-  s.name = "dashboard-test";
-  for (NodeId id = 1; id <= 2; ++id) {
-    scenario::NodeConfig n;
-    n.id = id;
-    n.initial_position = LocalPosition{10.0 * (id - 1), 0, 10};
-    s.nodes.push_back(n);
-  }
-  s.timing.mode = scenario::TimeMode::kVirtual;
-  s.timing.duration_s = duration_s;
-  return s;
-}
 
 /// A scenario, its engine (not running) and a dashboard on a free port of 127.0.0.1.
 struct LiveDashboard {

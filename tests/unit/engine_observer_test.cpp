@@ -1,55 +1,27 @@
-// The engine's observer interface: the frame events agree with the counters,
-// a watched node's samples arrive every tick, and decodes carry constellations.
+// The engine's observer interface: the frame events agree with the counters
+// and come in order, a watched node's samples arrive every tick, and decodes
+// carry constellations. Engine logic runs on FakeTransceivers (tests/support);
+// the constellation needs the real PHY.
 #include <gtest/gtest.h>
 
-#include <atomic>
+#include <algorithm>
 #include <map>
-#include <mutex>
 #include <set>
 #include <vector>
 
-#include "rfsitl/engine/engine.hpp"
+#include "engine_run.hpp"
+#include "fake_fleet.hpp"
+#include "spy_observer.hpp"
 
-namespace rfsitl::engine {
+namespace rfsitl::testing {
 namespace {
 
-class NullSink final : public FrameSink {
- public:
-  void deliver(std::size_t, NetFrame&&) override {}
-};
+using engine::FrameEventKind;
+using engine::kNumLossReasons;
+using engine::LossReason;
+using Kind = SpyObserver::Kind;
 
-class Collector final : public EngineObserver {
- public:
-  explicit Collector(std::optional<std::size_t> watch = std::nullopt) : watch_(watch) {}
-  void on_frame_event(const FrameEvent& e) override {
-    std::lock_guard lock(mutex);
-    events.push_back(e);
-  }
-  bool wants_samples(std::size_t node, SampleTime, std::size_t) const override {
-    return watch_ == node;
-  }
-  void on_rx_samples(std::size_t, SampleTime t, std::span<const cf32> s) override {
-    tick_times.push_back(t);
-    double p = 0;
-    for (const cf32 v : s) p += std::norm(v);
-    tick_power.push_back(p / static_cast<double>(s.size()));
-    sizes.insert(s.size());
-  }
-  void on_decode(std::size_t node, SampleTime, const phy::RxEvent& ev) override {
-    std::lock_guard lock(mutex);
-    decode_symbols[node].push_back(ev.symbols.size());
-  }
-  std::mutex mutex;
-  std::vector<FrameEvent> events;
-  std::vector<SampleTime> tick_times;
-  std::vector<double> tick_power;
-  std::set<std::size_t> sizes;
-  std::map<std::size_t, std::vector<std::size_t>> decode_symbols;
-
- private:
-  std::optional<std::size_t> watch_;
-};
-
+/// Four nodes 20-35 m apart that talk at once now and then (collisions).
 scenario::Scenario busy_scenario() {
   scenario::Scenario s;
   s.seed = 5;
@@ -75,43 +47,46 @@ scenario::Scenario busy_scenario() {
   return s;
 }
 
-/// Runs `s` to its end with `c` observing; returns the engine for its counters.
-std::unique_ptr<Engine> run_observed(const scenario::Scenario& s, Collector& c) {
-  static NullSink sink;
-  auto engine = make_engine(s, sink);
-  engine->add_observer(c);
-  const std::atomic<bool> stop{false};
-  engine->run(stop);
-  return engine;
+/// Fakes with 16 samples per byte: 80-byte frames (1380 samples) outlast a
+/// 250-sample tick several times over, as the real PHY's do.
+FakeFleet busy_fleet() {
+  FakeConfig c;
+  c.samples_per_byte = 16;
+  c.rx_latency_samples = 30;
+  return FakeFleet(c);
 }
 
 TEST(EngineObserver, FrameEventsAgreeWithEveryNodesCounters) {
-  Collector c;
-  const auto engine = run_observed(busy_scenario(), c);
+  FakeFleet fleet = busy_fleet();
+  SpyObserver spy;
+  const RunResult r = run_engine(busy_scenario(), {fleet.factory(), {&spy}});
   std::map<std::pair<NodeId, FrameEventKind>, std::uint64_t> kinds;
   const auto count = [&](NodeId id, FrameEventKind k) { return kinds[std::make_pair(id, k)]; };
   std::map<std::pair<NodeId, LossReason>, std::uint64_t> reasons;
   std::map<std::uint32_t, std::vector<FrameEventKind>> by_serial;
-  for (const FrameEvent& e : c.events) {
+  for (const auto& e : spy.events()) {
     ++kinds[{e.node, e.kind}];
     if (e.kind == FrameEventKind::kLost) ++reasons[{e.node, *e.reason}];
     if (e.kind != FrameEventKind::kHandedIn) by_serial[e.serial].push_back(e.kind);
   }
   std::uint64_t losses = 0;
-  for (std::size_t i = 0; i < engine->num_nodes(); ++i) {
-    const auto k = engine->counters(i).snapshot();
-    const NodeId id = engine->node_ids()[i];
+  std::uint64_t deliveries = 0;
+  for (std::size_t i = 0; i < r.counters.size(); ++i) {
+    const auto& k = r.counters[i];
+    const NodeId id = r.engine->node_ids()[i];
     EXPECT_EQ(count(id, FrameEventKind::kHandedIn), k.handed_in) << int{id};
     EXPECT_EQ(count(id, FrameEventKind::kTransmitted), k.transmitted) << int{id};
     EXPECT_EQ(count(id, FrameEventKind::kDelivered), k.delivered) << int{id};
     EXPECT_EQ(count(id, FrameEventKind::kReceived), k.received) << int{id};
-    for (std::size_t r = 0; r < kNumLossReasons; ++r) {
-      EXPECT_EQ(reasons[std::make_pair(id, static_cast<LossReason>(r))], k.lost[r])
-          << int{id} << " " << r;
+    for (std::size_t reason = 0; reason < kNumLossReasons; ++reason) {
+      EXPECT_EQ(reasons[std::make_pair(id, static_cast<LossReason>(reason))], k.lost[reason])
+          << int{id} << " " << reason;
     }
     losses += k.lost_total();
+    deliveries += k.delivered;
   }
   EXPECT_GT(losses, 0U);  // the scenario exercises losses as well as deliveries
+  EXPECT_GT(deliveries, 0U);
   // Each transmission: transmitted first, then exactly one final outcome.
   for (const auto& [serial, seq] : by_serial) {
     ASSERT_FALSE(seq.empty());
@@ -123,35 +98,94 @@ TEST(EngineObserver, FrameEventsAgreeWithEveryNodesCounters) {
   }
 }
 
+TEST(EngineObserver, OneFramesCallbacksComeInOrderWithTheirTimes) {
+  // A unicast delivered: handed in, transmitted, the receiver's decode (worker
+  // thread), received, delivered. One lost: transmitted, lost with its reason.
+  FakeConfig c;
+  c.rx_latency_samples = 40;
+  FakeFleet fleet(c);
+  SpyObserver spy;
+  scenario::Scenario s = make_scenario(
+      {{1, LocalPosition{0, 0, 0}}, {2, LocalPosition{5, 0, 0}}, {3, std::nullopt}}, 0.006);
+  s.traffic = {frame_at(0.0015, 1, 2, 80), frame_at(0.003, 2, 3, 10)};
+  run_engine(s, {fleet.factory(), {&spy}});
+  const auto tx = spy.events(Kind::kTransmitted);
+  ASSERT_EQ(tx.size(), 2U);
+  const auto first = spy.of_serial(tx[0].serial);
+  ASSERT_EQ(first.size(), 3U);
+  const auto handed = spy.events(Kind::kHandedIn);
+  ASSERT_EQ(handed.size(), 2U);
+  // Every decode with a valid header is shown, addressed to the node or not:
+  // node 1 also hears node 2's frame to node 3.
+  const auto decodes = spy.decodes();
+  ASSERT_EQ(decodes.size(), 2U);
+  EXPECT_EQ(decodes[1].node, 0U);
+  EXPECT_EQ(decodes[1].tag.serial, tx[1].serial);
+  const auto& d = decodes[0];
+  EXPECT_EQ(d.node, 1U);
+  EXPECT_EQ(d.tag.serial, tx[0].serial);
+  EXPECT_TRUE(d.header_valid && d.payload_valid);
+  EXPECT_EQ(d.payload.size(), 80U);
+  // Sequence numbers: the order in which the engine called the observer.
+  EXPECT_LT(handed[0].seq, first[0].seq);
+  EXPECT_EQ(first[0].kind, Kind::kTransmitted);
+  EXPECT_LT(first[0].seq, d.seq);
+  EXPECT_EQ(first[1].kind, Kind::kReceived);
+  EXPECT_LT(d.seq, first[1].seq);
+  EXPECT_EQ(first[2].kind, Kind::kDelivered);
+  // Handed in and sent at the 2000 tick; decoded at 2780, in that tick.
+  EXPECT_EQ(handed[0].time, 2000);
+  EXPECT_EQ(first[0].time, 2000);
+  EXPECT_EQ(first[0].length_samples, 740U);
+  EXPECT_EQ(d.time, 2000);
+  EXPECT_EQ(first[1].time, 2000);
+  EXPECT_EQ(first[1].node, 2);
+  EXPECT_EQ(first[2].time, 2000);
+  EXPECT_EQ(first[2].node, 1);
+  const auto second = spy.of_serial(tx[1].serial);
+  ASSERT_EQ(second.size(), 2U);
+  EXPECT_EQ(second[0].kind, Kind::kTransmitted);
+  EXPECT_EQ(second[1].kind, Kind::kLost);
+  EXPECT_EQ(second[1].reason, LossReason::kBelowSensitivity);
+  EXPECT_EQ(second[1].payload.size(), 10U);
+}
+
 TEST(EngineObserver, WatchedNodeGetsEveryTicksSamplesNoiseAtUnitPowerAndZerosWhileItSends) {
   scenario::Scenario s = busy_scenario();
   s.timing.duration_s = 0.2;
-  Collector c(0);  // node 1, which also transmits
-  run_observed(s, c);
+  FakeFleet fleet = busy_fleet();
+  SpyObserver spy({0});  // node 1, which also transmits
+  run_engine(s, {fleet.factory(), {&spy}});
+  const auto seen = spy.samples();
   const std::size_t ticks = static_cast<std::size_t>(0.2 * 1e6 / s.timing.tick_samples);
-  ASSERT_EQ(c.tick_times.size(), ticks);
+  ASSERT_EQ(seen.size(), ticks);
+  std::vector<double> power;
   for (std::size_t k = 0; k < ticks; ++k) {
-    ASSERT_EQ(c.tick_times[k], static_cast<SampleTime>(k * s.timing.tick_samples));
+    ASSERT_EQ(seen[k].node, 0U);
+    ASSERT_EQ(seen[k].time, static_cast<SampleTime>(k * s.timing.tick_samples));
+    ASSERT_EQ(seen[k].samples.size(), s.timing.tick_samples);
+    power.push_back(seen[k].mean_power());
   }
-  EXPECT_EQ(c.sizes, std::set<std::size_t>{s.timing.tick_samples});
   // Before any traffic (10 ms): pure noise at the front-end scale.
   double early = 0;
-  for (std::size_t k = 0; k < 30; ++k) early += c.tick_power[k];
+  for (std::size_t k = 0; k < 30; ++k) early += power[k];
   EXPECT_NEAR(early / 30, 1.0, 0.05);
   // While node 1 sends a whole tick its receiver is blanked: exactly zero.
-  EXPECT_TRUE(
-      std::any_of(c.tick_power.begin(), c.tick_power.end(), [](double p) { return p == 0.0; }));
+  EXPECT_TRUE(std::any_of(power.begin(), power.end(), [](double p) { return p == 0.0; }));
   // And while others send to it, far above the noise.
-  EXPECT_TRUE(
-      std::any_of(c.tick_power.begin(), c.tick_power.end(), [](double p) { return p > 100.0; }));
+  EXPECT_TRUE(std::any_of(power.begin(), power.end(), [](double p) { return p > 100.0; }));
 }
 
 TEST(EngineObserver, DecodesCarryTheirConstellation) {
-  Collector c;
-  run_observed(busy_scenario(), c);
-  ASSERT_FALSE(c.decode_symbols[1].empty());  // node 2 hears node 1's frames
-  for (const std::size_t n : c.decode_symbols[1]) EXPECT_GT(n, 100U);
+  SpyObserver spy;
+  run_engine(busy_scenario(), {{}, {&spy}});  // the real PHY
+  std::vector<std::size_t> symbols;           // of node 2's decodes: it hears node 1's frames
+  for (const auto& d : spy.decodes()) {
+    if (d.node == 1) symbols.push_back(d.symbols);
+  }
+  ASSERT_FALSE(symbols.empty());
+  for (const std::size_t n : symbols) EXPECT_GT(n, 100U);
 }
 
 }  // namespace
-}  // namespace rfsitl::engine
+}  // namespace rfsitl::testing

@@ -8,13 +8,12 @@
 #include <set>
 #include <sstream>
 
+#include "monitor_test_scenario.hpp"
+
 namespace rfsitl::monitor {
 namespace {
 
-class NullSink final : public engine::FrameSink {
- public:
-  void deliver(std::size_t, NetFrame&&) override {}
-};
+using test::NullSink;
 
 scenario::Scenario three_nodes() {
   scenario::Scenario s;

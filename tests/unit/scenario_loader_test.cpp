@@ -284,9 +284,9 @@ TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {
             "sample_rate_hz, tick_samples, duration_s)");
   EXPECT_TRUE(contains(error_of("nodes: [{id: 1}]\nnode: []\n"),
                        "t.yaml:2: node: unknown key (allowed at top level: name, seed,"));
-  EXPECT_TRUE(
-      contains(error_of("nodes:\n  - id: 1\n    pos: {x: 0, y: 0}\n"),
-               "t.yaml:3: nodes[0].pos: unknown key (allowed in nodes[0]: id, position, phy)"));
+  EXPECT_TRUE(contains(
+      error_of("nodes:\n  - id: 1\n    pos: {x: 0, y: 0}\n"),
+      "t.yaml:3: nodes[0].pos: unknown key (allowed in nodes[0]: id, position, mobility, phy)"));
   EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    position: {lat: 1, lon: 2, altitude: 3}\n"),
                        "t.yaml:3: nodes[0].position.altitude: unknown key"));
 }
@@ -334,7 +334,8 @@ TEST(ParseScenario, YamlSyntaxErrorReportsTheLine) {
 
 TEST(ValidateScenario, AcceptsAStructBuiltScenario) {
   Scenario s;
-  s.nodes = {{1, std::nullopt, std::nullopt}, {2, LocalPosition{5, 0, 10}, std::nullopt}};
+  s.nodes = {{1, std::nullopt, std::nullopt, std::nullopt},
+             {2, LocalPosition{5, 0, 10}, std::nullopt, std::nullopt}};
   s.traffic = {TrafficItem{}};
   EXPECT_NO_THROW(validate_scenario(s));
 }
@@ -349,11 +350,12 @@ TEST(ParseScenario, UnknownPhyTypeListsTheRegisteredOnes) {
 TEST(ValidateScenario, ReportsWithSourceScenarioAndNoLine) {
   Scenario s;
   EXPECT_EQ(validation_error_of(s), "scenario: nodes: must list 1..254 nodes, got 0");
-  s.nodes = {{4, std::nullopt, std::nullopt}, {4, std::nullopt, std::nullopt}};
+  s.nodes = {{4, std::nullopt, std::nullopt, std::nullopt},
+             {4, std::nullopt, std::nullopt, std::nullopt}};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[1].id: duplicate id 4 (also nodes[0].id)");
-  s.nodes = {{0, std::nullopt, std::nullopt}};
+  s.nodes = {{0, std::nullopt, std::nullopt, std::nullopt}};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[0].id: must be in 1..254, got 0");
-  s.nodes = {{1, std::nullopt, std::nullopt}};
+  s.nodes = {{1, std::nullopt, std::nullopt, std::nullopt}};
   s.phy.settings.set("bandwidth_time", 0.1);
   EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: must be in [0.2, 1], got 0.1");
   s.phy.settings.set("bandwidth_time", std::uint64_t{1});
@@ -525,6 +527,46 @@ TEST(ParseScenario, DsssNodeSettingsAreReadAndChecked) {
                   .starts_with("t.yaml:3: nodes[0].phy.code: "));
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    phy: {type: dsss, modulation: d8psk}\n"),
             "t.yaml:3: nodes[0].phy.modulation: unknown 'd8psk' (known: dbpsk, dqpsk)");
+}
+
+}  // namespace
+}  // namespace rfsitl::scenario
+
+namespace rfsitl::scenario {
+namespace {
+
+TEST(ParseScenario, NodeMobilityIsReadWithItsModelsSettings) {
+  const Scenario s = parse_scenario(
+      "nodes:\n  - id: 1\n    mobility: {type: orbit, radius_m: 50, speed_mps: -5}\n"
+      "  - id: 2\n",
+      "t.yaml");
+  ASSERT_TRUE(s.nodes[0].mobility.has_value());
+  EXPECT_EQ(s.nodes[0].mobility->type, "orbit");
+  EXPECT_DOUBLE_EQ(s.nodes[0].mobility->settings.get<double>("radius_m"), 50.0);
+  EXPECT_DOUBLE_EQ(s.nodes[0].mobility->settings.get<double>("speed_mps"), -5.0);
+  EXPECT_DOUBLE_EQ(s.nodes[0].mobility->settings.get<double>("phase_rad"), 0.0);  // default
+  EXPECT_FALSE(s.nodes[1].mobility.has_value());
+}
+
+TEST(ParseScenario, MobilityErrorsNameTheNodeKeyAndLine) {
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility:\n      type: orbit\n      radius_m: 0\n"),
+            "t.yaml:5: nodes[0].mobility.radius_m: must be in (0, 1e+08], got 0");
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility: {type: levy_walk}\n"),
+            "t.yaml:3: nodes[0].mobility.type: unknown 'levy_walk' (known: gauss_markov, orbit, "
+            "random_waypoint, trace)");
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility: {radius_m: 5}\n"),
+            "t.yaml:3: nodes[0].mobility.type: required");
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility:\n      type: orbit\n      pause_s: 1\n"),
+            "t.yaml:5: nodes[0].mobility.pause_s: is a setting of mobility type "
+            "random_waypoint, not of orbit (whose settings are: centre_x_m, centre_y_m, radius_m, "
+            "speed_mps, altitude_m, phase_rad)");
+  // A rule across settings, checked by the model itself.
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility: {type: random_waypoint, speed_min_mps: 5, "
+                     "speed_max_mps: 2}\n")
+                .rfind("t.yaml:3: nodes[0].mobility.speed_max_mps: ", 0),
+            0U);
+  EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility: {type: trace}\n"),
+            "t.yaml:3: nodes[0].mobility.file: required");
 }
 
 }  // namespace

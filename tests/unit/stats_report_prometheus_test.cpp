@@ -6,27 +6,18 @@
 #include <map>
 #include <sstream>
 
+#include "monitor_test_scenario.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
 
 namespace rfsitl::monitor {
 namespace {
 
-class NullSink final : public engine::FrameSink {
- public:
-  void deliver(std::size_t, NetFrame&&) override {}
-};
+using test::NullSink;
 
-scenario::Scenario two_nodes(std::string name) {
-  scenario::Scenario s;
+/// Two nodes; node 1 sends node 2 three frames.
+scenario::Scenario metrics_scenario(std::string name) {
+  scenario::Scenario s = test::two_nodes(0.05);
   s.name = std::move(name);
-  for (NodeId id = 1; id <= 2; ++id) {
-    scenario::NodeConfig n;
-    n.id = id;
-    n.initial_position = LocalPosition{10.0 * (id - 1), 0, 10};
-    s.nodes.push_back(n);
-  }
-  s.timing.mode = scenario::TimeMode::kVirtual;
-  s.timing.duration_s = 0.05;
   s.traffic.push_back(scenario::TrafficItem{0.01, 1, 2, 80, 3, 0.01});
   return s;
 }
@@ -57,7 +48,7 @@ TEST(StatsReportPrometheus, LabelValuesEscapeBackslashQuoteAndNewline) {
   EXPECT_EQ(prometheus_label_value("plain-name_1"), "plain-name_1");
   EXPECT_EQ(prometheus_help_text("a \"b\" \\ c\nd"), R"(a "b" \\ c\nd)");
 
-  const auto s = two_nodes("swarm \"alpha\" \\ test\nsecond line");
+  const auto s = metrics_scenario("swarm \"alpha\" \\ test\nsecond line");
   NullSink sink;
   auto e = engine::make_engine(s, sink);
   const std::string text = prometheus_text(s, *e);
@@ -72,7 +63,7 @@ TEST(StatsReportPrometheus, LabelValuesEscapeBackslashQuoteAndNewline) {
 }
 
 TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
-  const auto s = two_nodes("metrics");
+  const auto s = metrics_scenario("metrics");
   NullSink sink;
   auto e = engine::make_engine(s, sink);
   const std::atomic<bool> stop{false};

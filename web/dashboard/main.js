@@ -29,7 +29,7 @@ import { recordSnapshot, setNodeIds } from './snapshot.js';
 import { updateSnrRange } from './snr-scale.js';
 import { onSpectrum } from './spectrum.js';
 import { state } from './state.js';
-import { buildTable, updateTable } from './table.js';
+import { buildTable, setCounterFields, updateTable } from './table.js';
 import './test-hook.js';
 import { showHello, showStatus } from './topbar.js';
 import './traffic.js';
@@ -48,6 +48,7 @@ function onHello(m, text) {
   state.helloText = text;
   showHello(m);
   setControl(!!m.control);
+  setCounterFields(m.counters || []);
   setNodes(m.node_ids || []);
 }
 

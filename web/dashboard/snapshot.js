@@ -2,7 +2,7 @@
 // carried or lost frames recently (from the deltas of the cumulative per-link
 // counters), and the totals over time for the traffic plot. Views read the
 // results from `state`; this module touches no DOM.
-import { LOSS_REASONS, state } from './state.js';
+import { state } from './state.js';
 
 const HISTORY_POINTS = 480;  // 2 minutes at 4 snapshots/s
 
@@ -54,7 +54,7 @@ export function recordSnapshot(s) {
   for (const n of s.nodes) {
     delivered += n.delivered;
     received += n.received;
-    for (const r of LOSS_REASONS) lost += n.lost?.[r] ?? 0;
+    for (const v of Object.values(n.lost ?? {})) lost += v;
   }
   state.history.push({ t: s.wall_s, delivered, lost, received });
   if (state.history.length > HISTORY_POINTS) state.history.shift();

@@ -4,8 +4,6 @@
 import { Timings } from './timings.js';
 
 export const ACTIVE_MS = 2000;  // a link "carried frames recently" for this long
-export const LOSS_REASONS = ['below_sensitivity', 'collision', 'half_duplex', 'decode_failure',
-  'unknown_destination'];
 
 export const state = {
   conn: 'connecting',

@@ -1,27 +1,57 @@
 // The counters table: one row per node, built once per node set; a snapshot
 // only rewrites the text nodes whose value changed (and flashes those cells).
+// The counter columns are the server's: the hello lists every per-node counter
+// (key, label, help; by-reason counters with their reasons) in display order.
 import { phyColour } from './colour.js';
 import { $, el } from './dom.js';
 import { onSelect, select } from './selection.js';
 import { posOk } from './snapshot.js';
-import { LOSS_REASONS } from './state.js';
+import { state } from './state.js';
 
-// Column key (the cell's class) and how to read it from a snapshot's node.
-const COLUMNS = [
-  ['handed_in', (n) => n.handed_in],
-  ['transmitted', (n) => n.transmitted],
-  ['delivered', (n) => n.delivered],
-  ['lost', (n) => LOSS_REASONS.reduce((a, r) => a + (n.lost?.[r] ?? 0), 0)],
-  ...LOSS_REASONS.map((r) => [`lost-${r}`, (n) => n.lost?.[r] ?? 0]),
-  ['queue_dropped', (n) => n.queue_dropped],
-  ['queue_depth', (n) => n.queue_depth],
-  ['received', (n) => n.received],
-  ['rx_crc_failures', (n) => n.rx_crc_failures],
-];
 const FLASH = [{ backgroundColor: 'rgba(255, 214, 90, 0.55)' }, { backgroundColor: 'rgba(255, 214, 90, 0)' }];
 
+const thead = $('#node-table thead');
 const tbody = $('#node-table tbody');
 const rows = new Map();  // id -> {tr, phy, phyDot, position, cells: [{td, text, value}]}
+let columns = [];        // {cls: the cells' classes, read: node of a snapshot -> value}
+let fieldsText = null;   // the field list `columns` was built from
+
+const sumOf = (o) => Object.values(o ?? {}).reduce((a, v) => a + v, 0);
+
+/** A by-reason counter: a group header over its total and one column per reason. */
+function reasonColumns(f, top, bottom) {
+  top.append(el('th', { class: 'group', colSpan: 1 + f.reasons.length, title: f.help }, f.label));
+  bottom.append(el('th', { title: 'All reasons' }, 'total'));
+  const cols = [{ cls: f.key, read: (n) => sumOf(n[f.key]) }];
+  for (const r of f.reasons) {
+    bottom.append(el('th', { title: r.help }, r.label));
+    cols.push({ cls: `${f.key}-${r.key} reason`, read: (n) => n[f.key]?.[r.key] ?? 0 });
+  }
+  return cols;
+}
+
+/** Adopts the hello's counter list: rebuilds the header and, if it changed, the rows. */
+export function setCounterFields(fields) {
+  const text = JSON.stringify(fields);
+  if (text === fieldsText) return;
+  fieldsText = text;
+  const grouped = fields.some((f) => f.reasons);
+  const top = el('tr'), bottom = el('tr');
+  const head = (title, label) => el('th', { rowSpan: grouped ? 2 : 1, title }, label);
+  top.append(head('Node id', 'id'), head('Transceiver type', 'phy'),
+    head('Local x, y, z in metres', 'position'));
+  columns = [];
+  for (const f of fields) {
+    if (f.reasons) {
+      columns.push(...reasonColumns(f, top, bottom));
+    } else {
+      top.append(head(f.help, f.label));
+      columns.push({ cls: f.key, read: (n) => n[f.key] });
+    }
+  }
+  thead.replaceChildren(...(grouped ? [top, bottom] : [top]));
+  buildTable(state.ids);
+}
 
 /** Replaces the rows with one (still empty) row per node id. */
 export function buildTable(ids) {
@@ -36,9 +66,9 @@ export function buildTable(ids) {
     const posText = document.createTextNode('–');
     const posTd = el('td', { class: 'position' }, posText);
     tr.append(idTd, phyTd, posTd);
-    const cells = COLUMNS.map(([key]) => {
+    const cells = columns.map(({ cls }) => {
       const text = document.createTextNode('–');
-      const td = el('td', { class: key.startsWith('lost-') ? `${key} lost-reason` : key }, text);
+      const td = el('td', { class: cls }, text);
       tr.append(td);
       return { td, text, value: null };
     });
@@ -65,8 +95,8 @@ export function updateTable(nodes) {
       row.pos = pos;
       row.posText.data = pos;
     }
-    for (let c = 0; c < COLUMNS.length; ++c) {
-      const v = COLUMNS[c][1](n) ?? 0;
+    for (let c = 0; c < columns.length; ++c) {
+      const v = columns[c].read(n) ?? 0;
       const cell = row.cells[c];
       if (cell.value === v) continue;
       const first = cell.value === null;

@@ -2,6 +2,8 @@
 /// Per-node accounting. Every frame an agent hands in ends in exactly one of:
 /// delivered, lost (with a reason), dropped by the full TX queue; until then it
 /// is pending (queued, on the air, or awaiting its receiver's verdict).
+/// The reports name and describe these counters from one list:
+/// node_counter_fields.hpp (a new counter needs its entry there).
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -34,7 +36,7 @@ struct NodeCountersSnapshot {
   std::uint64_t to_agent_dropped = 0;  ///< decoded for this node but no agent connected / backlog
   std::uint64_t location_updates = 0;  ///< good location lines
   std::uint64_t location_errors = 0;   ///< bad location lines
-  std::uint64_t queue_depth = 0;       ///< frames waiting in the TX queue
+  std::uint64_t queue_depth = 0;       ///< TX queue length (the engine's; snapshot() leaves 0)
 
   std::uint64_t lost_total() const {
     std::uint64_t s = 0;

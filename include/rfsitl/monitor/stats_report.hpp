@@ -2,6 +2,7 @@
 /// The run's state as JSON (`--summary-json`, /api/stats, the dashboard's
 /// snapshots) and as Prometheus text (/metrics). Everything is read through the
 /// engine's thread-safe views, so any thread may call these during a run.
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,5 +35,8 @@ std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e);
 std::string prometheus_label_value(std::string_view v);
 /// HELP text escaped: backslash and line feed (a double quote stays as is).
 std::string prometheus_help_text(std::string_view v);
+/// A family's "# HELP" and "# TYPE" lines (`help` escaped).
+void prometheus_family(std::ostream& o, std::string_view name, std::string_view type,
+                       std::string_view help);
 
 }  // namespace rfsitl::monitor

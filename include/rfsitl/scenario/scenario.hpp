@@ -71,12 +71,22 @@ struct PhyChoice {
   bool operator==(const PhyChoice&) const = default;
 };
 
+/// A node's mobility model (position/mobility/mobility_component.hpp) and its
+/// declared settings; the engine moves the node along it on the virtual clock.
+struct MobilityChoice {
+  std::string type;
+  config::Settings settings;
+  bool operator==(const MobilityChoice&) const = default;
+};
+
 struct NodeConfig {
   NodeId id = 1;
   /// Where the node starts; nullopt until its location feed reports (no links meanwhile).
   std::optional<Position> initial_position;
   /// This node's transceiver, when it differs from the scenario's `phy`.
   std::optional<PhyChoice> phy;
+  /// How the node moves; nullopt: only its location feed (and the dashboard) move it.
+  std::optional<MobilityChoice> mobility;
 };
 
 struct ChannelConfig {
@@ -107,6 +117,7 @@ struct EngineConfig {
   unsigned threads = 0;             ///< worker threads; 0 = one per core
   bool skip_idle_receivers = true;  ///< see Engine for the exact condition
   double stats_interval_s = 5.0;    ///< wall seconds between stats lines; 0 = off
+  double mobility_update_s = 0.01;  ///< virtual seconds between mobility model updates
 };
 
 /// Nodes whose transceiver is another process (type external or process child).
@@ -129,6 +140,9 @@ struct TrafficItem {
 
 struct Scenario {
   std::string name = "default";
+  /// The scenario file's folder (files it names are relative to it); "" = the
+  /// working directory.
+  std::string source_dir;
   std::uint64_t seed = 1;
   std::vector<NodeConfig> nodes;
   PhyChoice phy;

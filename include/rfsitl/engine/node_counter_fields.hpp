@@ -1,0 +1,123 @@
+#pragma once
+/// The per-node counters, each declared once with its names and meaning. Every
+/// report iterates this list: the summary JSON and /api/stats (`key`), /metrics
+/// (`metric`, `help`, `kind`), the end-of-run table (`column`) and the
+/// dashboard's table (`label`, `help`, sent in the hello message). A new
+/// counter is a field of NodeCountersSnapshot plus one entry here.
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include "rfsitl/engine/node_counters.hpp"
+
+namespace rfsitl::engine {
+
+/// How a loss reason is named: `key` in JSON and the `reason` metric label,
+/// `column` after "lost:" in the end-of-run table, `label` and `help` on the dashboard.
+struct LossReasonInfo {
+  LossReason reason;
+  std::string_view key;
+  std::string_view column;
+  std::string_view label;
+  std::string_view help;
+};
+
+/// Indexed by LossReason (NodeCountersSnapshot::lost is too).
+inline constexpr std::array<LossReasonInfo, kNumLossReasons> kLossReasons{{
+    {LossReason::kBelowSensitivity, "below_sensitivity", "sen", "below sens.",
+     "SNR at the receiver below the PHY's sensitivity (or no link)"},
+    {LossReason::kCollision, "collision", "col", "collision",
+     "Another transmission overlapped it at the receiver"},
+    {LossReason::kHalfDuplex, "half_duplex", "hd", "half-duplex",
+     "The receiver was transmitting during the frame"},
+    {LossReason::kDecodeFailure, "decode_failure", "dec", "decode fail",
+     "None of the above, yet the receiver did not decode it (CRC)"},
+    {LossReason::kUnknownDestination, "unknown_destination", "dst", "unknown dst",
+     "The destination names no node of the scenario"},
+}};
+
+/// Prometheus metric type: a counter only grows, a gauge goes up and down.
+enum class CounterKind : std::uint8_t { kCounter, kGauge };
+
+constexpr std::string_view counter_kind_name(CounterKind k) {
+  return k == CounterKind::kGauge ? "gauge" : "counter";
+}
+
+/// One per-node number. A field with `by_reason` is one number per loss reason
+/// (a JSON object keyed by reason, a `reason` label, a column per reason);
+/// `read` then gives their total.
+struct NodeCounterField {
+  std::string_view key;     ///< JSON key of nodes[i]; the dashboard cell's class
+  std::string_view metric;  ///< Prometheus family, labelled {node="ID"}
+  CounterKind kind;
+  std::string_view help;    ///< one line: Prometheus HELP and the dashboard's tooltip
+  std::string_view label;   ///< dashboard column header
+  std::string_view column;  ///< end-of-run table header (short: the terminal is narrow)
+  std::uint64_t (*read)(const NodeCountersSnapshot&);
+  std::array<std::uint64_t, kNumLossReasons> NodeCountersSnapshot::*by_reason = nullptr;
+};
+
+/// A field's reader from its member (a function pointer keeps the table constexpr
+/// and lets derived numbers such as pending() sit next to stored ones).
+template <std::uint64_t NodeCountersSnapshot::*Member>
+constexpr std::uint64_t read_member(const NodeCountersSnapshot& s) {
+  return s.*Member;
+}
+
+/// The order of the reports' columns and metric families.
+inline constexpr std::array kNodeCounterFields{
+    NodeCounterField{"handed_in", "rfsitl_frames_handed_in_total", CounterKind::kCounter,
+                     "Frames the agent handed in.", "handed in", "in",
+                     read_member<&NodeCountersSnapshot::handed_in>},
+    NodeCounterField{"transmitted", "rfsitl_frames_transmitted_total", CounterKind::kCounter,
+                     "Frames that went on the air.", "transmitted", "tx",
+                     read_member<&NodeCountersSnapshot::transmitted>},
+    NodeCounterField{"delivered", "rfsitl_frames_delivered_total", CounterKind::kCounter,
+                     "Own frames that reached their destination.", "delivered", "delivered",
+                     read_member<&NodeCountersSnapshot::delivered>},
+    NodeCounterField{"lost", "rfsitl_frames_lost_total", CounterKind::kCounter,
+                     "Own frames lost on the air, by reason.", "lost (own frames)", "lost",
+                     [](const NodeCountersSnapshot& s) { return s.lost_total(); },
+                     &NodeCountersSnapshot::lost},
+    NodeCounterField{"queue_dropped", "rfsitl_frames_queue_dropped_total", CounterKind::kCounter,
+                     "Frames refused by the full TX queue.", "queue dropped", "q-drop",
+                     read_member<&NodeCountersSnapshot::queue_dropped>},
+    NodeCounterField{
+        "pending", "rfsitl_frames_pending", CounterKind::kGauge,
+        "Frames handed in without a final outcome yet (queued, on the air, being decoded).",
+        "pending", "pending", [](const NodeCountersSnapshot& s) { return s.pending(); }},
+    NodeCounterField{"received", "rfsitl_frames_received_total", CounterKind::kCounter,
+                     "Frames decoded and handed to the agent.", "received", "received",
+                     read_member<&NodeCountersSnapshot::received>},
+    NodeCounterField{"rx_crc_failures", "rfsitl_rx_crc_failures_total", CounterKind::kCounter,
+                     "Decodes that failed the CRC.", "CRC failures", "crc-fail",
+                     read_member<&NodeCountersSnapshot::rx_crc_failures>},
+    NodeCounterField{
+        "to_agent_dropped", "rfsitl_frames_to_agent_dropped_total", CounterKind::kCounter,
+        "Frames decoded for the node but not handed to its agent (none connected, backlog).",
+        "to agent dropped", "to-agent-drop", read_member<&NodeCountersSnapshot::to_agent_dropped>},
+    NodeCounterField{"framing_errors", "rfsitl_framing_errors_total", CounterKind::kCounter,
+                     "Net-port frames refused (oversized or too short).", "framing errors",
+                     "frame-err", read_member<&NodeCountersSnapshot::framing_errors>},
+    NodeCounterField{"location_updates", "rfsitl_location_updates_total", CounterKind::kCounter,
+                     "Good location-port lines.", "location ok", "loc-ok",
+                     read_member<&NodeCountersSnapshot::location_updates>},
+    NodeCounterField{"location_errors", "rfsitl_location_errors_total", CounterKind::kCounter,
+                     "Location-port lines refused.", "location bad", "loc-bad",
+                     read_member<&NodeCountersSnapshot::location_errors>},
+    NodeCounterField{"queue_depth", "rfsitl_tx_queue_depth", CounterKind::kGauge,
+                     "Frames waiting in the TX queue.", "queue depth", "q-depth",
+                     read_member<&NodeCountersSnapshot::queue_depth>},
+};
+
+namespace detail {
+constexpr bool loss_reasons_in_enum_order() {
+  for (std::size_t r = 0; r < kLossReasons.size(); ++r) {
+    if (static_cast<std::size_t>(kLossReasons[r].reason) != r) return false;
+  }
+  return true;
+}
+}  // namespace detail
+static_assert(detail::loss_reasons_in_enum_order(), "kLossReasons is indexed by LossReason");
+
+}  // namespace rfsitl::engine

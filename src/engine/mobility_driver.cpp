@@ -1,0 +1,54 @@
+#include "mobility_driver.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/position/mobility/mobility_component.hpp"
+
+namespace rfsitl::engine {
+
+MobilityDriver::MobilityDriver(const scenario::Scenario& s)
+    : origin_(s.channel.origin),
+      sample_rate_hz_(s.timing.sample_rate_hz),
+      interval_(std::max<SampleTime>(
+          1, static_cast<SampleTime>(
+                 std::llround(s.engine.mobility_update_s * s.timing.sample_rate_hz)))) {
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const auto& m = s.nodes[i].mobility;
+    if (!m) continue;
+    const auto* component = position::mobility::find_mobility(m->type);
+    const std::string who = "node " + std::to_string(s.nodes[i].id) + " mobility " + m->type;
+    if (component == nullptr) throw std::invalid_argument(who + ": unknown model");
+    position::mobility::MobilityContext context;
+    context.node = s.nodes[i].id;
+    context.scenario_seed = s.seed;
+    context.origin = s.channel.origin;
+    if (const auto& p = s.nodes[i].initial_position) {
+      if (const auto* local = std::get_if<LocalPosition>(&*p)) context.start = *local;
+    }
+    context.base_dir = s.source_dir;
+    context.warn = [who](const std::string& line) { spdlog::warn("{}: {}", who, line); };
+    try {
+      moving_.push_back({i, component->make(m->settings, context)});
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(who + ": " + e.what());
+    }
+  }
+}
+
+bool MobilityDriver::update(SampleTime now, channel::ChannelMatrix& channel) {
+  if (moving_.empty() || now < next_) return false;
+  const double t_s = static_cast<double>(now) / sample_rate_hz_;
+  for (const Moving& m : moving_) {
+    channel.set_position(m.index, channel::local_to_ecef(m.model->state_at(t_s).position, origin_));
+  }
+  next_ = now + interval_;
+  return true;
+}
+
+}  // namespace rfsitl::engine

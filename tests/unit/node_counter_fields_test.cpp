@@ -1,0 +1,205 @@
+// engine::kNodeCounterFields is the one list of per-node counters: the summary
+// JSON, /metrics, the end-of-run table and the dashboard's hello all follow it,
+// in its order, under the names users depend on.
+#include "rfsitl/engine/node_counter_fields.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "dashboard_test_support.hpp"
+#include "rfsitl/monitor/node_counter_report.hpp"
+#include "rfsitl/monitor/stats_report.hpp"
+
+namespace rfsitl::monitor {
+namespace {
+
+using engine::kLossReasons;
+using engine::kNodeCounterFields;
+
+/// A different number in every field (pending = 1000 - 2 - 4 - 35).
+engine::NodeCountersSnapshot distinct_values() {
+  engine::NodeCountersSnapshot c;
+  c.handed_in = 1000;
+  c.queue_dropped = 2;
+  c.transmitted = 3;
+  c.delivered = 4;
+  c.lost = {5, 6, 7, 8, 9};
+  c.received = 10;
+  c.rx_crc_failures = 11;
+  c.framing_errors = 12;
+  c.to_agent_dropped = 13;
+  c.location_updates = 14;
+  c.location_errors = 15;
+  c.queue_depth = 16;
+  return c;
+}
+
+/// The published names (JSON key -> metric) and distinct_values()' numbers,
+/// written out here so that a renamed key or metric fails the test.
+struct Expected {
+  const char* metric;
+  std::uint64_t value;
+};
+const std::map<std::string, Expected>& expected_scalars() {
+  static const std::map<std::string, Expected> m = {
+      {"handed_in", {"rfsitl_frames_handed_in_total", 1000}},
+      {"queue_dropped", {"rfsitl_frames_queue_dropped_total", 2}},
+      {"transmitted", {"rfsitl_frames_transmitted_total", 3}},
+      {"delivered", {"rfsitl_frames_delivered_total", 4}},
+      {"pending", {"rfsitl_frames_pending", 959}},
+      {"received", {"rfsitl_frames_received_total", 10}},
+      {"rx_crc_failures", {"rfsitl_rx_crc_failures_total", 11}},
+      {"framing_errors", {"rfsitl_framing_errors_total", 12}},
+      {"to_agent_dropped", {"rfsitl_frames_to_agent_dropped_total", 13}},
+      {"location_updates", {"rfsitl_location_updates_total", 14}},
+      {"location_errors", {"rfsitl_location_errors_total", 15}},
+      {"queue_depth", {"rfsitl_tx_queue_depth", 16}},
+  };
+  return m;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+TEST(NodeCounterFields, KeysAndMetricsAreUniqueAndEveryFieldIsDescribed) {
+  std::set<std::string_view> keys, metrics, columns;
+  for (const auto& f : kNodeCounterFields) {
+    EXPECT_TRUE(keys.insert(f.key).second) << f.key;
+    EXPECT_TRUE(metrics.insert(f.metric).second) << f.metric;
+    EXPECT_TRUE(columns.insert(f.column).second) << f.column;
+    EXPECT_FALSE(f.help.empty()) << f.key;
+    EXPECT_EQ(f.help.find('\n'), std::string_view::npos) << f.key;  // one line
+    EXPECT_FALSE(f.label.empty()) << f.key;
+    EXPECT_EQ(f.kind == engine::CounterKind::kCounter, f.metric.ends_with("_total")) << f.metric;
+  }
+  for (std::size_t r = 0; r < kLossReasons.size(); ++r) {
+    EXPECT_EQ(engine::loss_reason_name(static_cast<engine::LossReason>(r)), kLossReasons[r].key);
+  }
+}
+
+TEST(NodeCounterFields, DistinctValuesLandUnderTheirJsonKeys) {
+  nlohmann::json want = nlohmann::json::object();
+  for (const auto& [key, e] : expected_scalars()) want[key] = e.value;
+  want["lost"] = {{"below_sensitivity", 5},
+                  {"collision", 6},
+                  {"half_duplex", 7},
+                  {"decode_failure", 8},
+                  {"unknown_destination", 9}};
+  EXPECT_EQ(node_counters_json(distinct_values()), want);
+}
+
+TEST(NodeCounterFields, MetricsFollowTheListInOrderWithHelpTypeAndValues) {
+  const std::vector<NodeId> ids = {7, 9};
+  const std::vector<engine::NodeCountersSnapshot> c = {distinct_values(), {}};
+  std::ostringstream o;
+  write_node_counter_metrics(o, ids, c);
+  const auto lines = lines_of(o.str());
+  std::size_t at = 0;
+  for (const auto& f : kNodeCounterFields) {
+    const std::string name(f.metric);
+    ASSERT_LT(at + 1, lines.size()) << name;
+    EXPECT_EQ(lines[at++], "# HELP " + name + " " + std::string(f.help));
+    EXPECT_EQ(lines[at++], "# TYPE " + name + " " + std::string(counter_kind_name(f.kind)));
+    for (const NodeId id : ids) {
+      const std::string node = "{node=\"" + std::to_string(id) + "\"";
+      const bool seven = id == 7;
+      if (f.by_reason == nullptr) {
+        const auto& e = expected_scalars().at(std::string(f.key));
+        EXPECT_EQ(e.metric, name);
+        ASSERT_LT(at, lines.size());
+        EXPECT_EQ(lines[at++], name + node + "} " + std::to_string(seven ? e.value : 0));
+        continue;
+      }
+      for (std::size_t r = 0; r < kLossReasons.size(); ++r) {
+        ASSERT_LT(at, lines.size());
+        EXPECT_EQ(lines[at++], name + node + ",reason=\"" + std::string(kLossReasons[r].key) +
+                                   "\"} " + std::to_string(seven ? 5 + r : 0));
+      }
+    }
+  }
+  EXPECT_EQ(at, lines.size()) << "lines after the last declared family";
+}
+
+TEST(NodeCounterFields, SummaryTableHasAColumnPerFieldInOrder) {
+  const std::vector<NodeId> ids = {7};
+  const std::vector<engine::NodeCountersSnapshot> c = {distinct_values()};
+  const auto lines = lines_of(node_counters_table(ids, c));
+  ASSERT_EQ(lines.size(), 2U);
+  std::istringstream head(lines[0]), row(lines[1]);
+  std::vector<std::string> titles;
+  std::vector<std::uint64_t> values;
+  for (std::string t; head >> t;) titles.push_back(t);
+  for (std::uint64_t v; row >> v;) values.push_back(v);
+  // The columns the table has always had, then the ones added since.
+  const std::vector<std::string> want_titles = {
+      "node",      "in",       "tx",      "delivered", "lost:sen", "lost:col", "lost:hd",
+      "lost:dec",  "lost:dst", "q-drop",  "pending",   "received", "crc-fail", "to-agent-drop",
+      "frame-err", "loc-ok",   "loc-bad", "q-depth"};
+  EXPECT_EQ(titles, want_titles);
+  const std::vector<std::uint64_t> want_values = {7, 1000, 3,  4,  5,  6,  7,  8,  9,
+                                                  2, 959,  10, 11, 13, 12, 14, 15, 16};
+  EXPECT_EQ(values, want_values);
+  // Right-aligned under its title.
+  EXPECT_EQ(lines[0].size(), lines[1].size());
+}
+
+TEST(NodeCounterFields, StatsJsonAndMetricsOfARunCarryEveryField) {
+  const auto s = test::two_nodes();
+  test::NullSink sink;
+  auto e = engine::make_engine(s, sink);
+  e->counters(1).location_errors.store(3);
+  const auto stats = stats_json(s, *e);
+  const std::string metrics = prometheus_text(s, *e);
+  for (const auto& n : stats.at("nodes")) {
+    std::set<std::string> keys = {"id", "phy"};
+    for (const auto& f : kNodeCounterFields) keys.insert(std::string(f.key));
+    std::set<std::string> have;
+    for (const auto& [key, value] : n.items()) have.insert(key);
+    EXPECT_EQ(have, keys);
+  }
+  EXPECT_EQ(stats.at("nodes")[1].at("location_errors"), 3);
+  for (const auto& f : kNodeCounterFields) {
+    EXPECT_NE(metrics.find("# HELP " + std::string(f.metric) + " " + std::string(f.help) + "\n"),
+              std::string::npos)
+        << f.metric;
+  }
+  EXPECT_NE(metrics.find("rfsitl_location_errors_total{node=\"2\"} 3\n"), std::string::npos);
+}
+
+TEST(NodeCounterFields, DashboardHelloListsTheFieldsInOrder) {
+  test::LiveDashboard d;
+  test::Viewer v;
+  const auto ec = v.connect(d.port());
+  ASSERT_FALSE(ec) << ec.message();
+  const auto hello = nlohmann::json::parse(v.read());
+  ASSERT_EQ(hello.at("type"), "hello");
+  const auto& fields = hello.at("counters");
+  EXPECT_EQ(fields, node_counter_fields_json());
+  ASSERT_EQ(fields.size(), kNodeCounterFields.size());
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    const auto& f = kNodeCounterFields[i];
+    EXPECT_EQ(fields[i].at("key"), f.key);
+    EXPECT_EQ(fields[i].at("label"), f.label);
+    EXPECT_EQ(fields[i].at("help"), f.help);
+    EXPECT_EQ(fields[i].at("kind"), counter_kind_name(f.kind));
+    EXPECT_EQ(fields[i].contains("reasons"), f.by_reason != nullptr);
+  }
+  const auto& lost = fields[3];
+  ASSERT_EQ(lost.at("key"), "lost");
+  ASSERT_EQ(lost.at("reasons").size(), kLossReasons.size());
+  for (std::size_t r = 0; r < kLossReasons.size(); ++r) {
+    EXPECT_EQ(lost.at("reasons")[r].at("key"), kLossReasons[r].key);
+    EXPECT_EQ(lost.at("reasons")[r].at("label"), kLossReasons[r].label);
+  }
+}
+
+}  // namespace
+}  // namespace rfsitl::monitor
