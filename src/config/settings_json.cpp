@@ -4,8 +4,8 @@ namespace rfsitl::config {
 
 nlohmann::json to_json(const Settings& s) {
   nlohmann::json j = nlohmann::json::object();
-  for (const auto& [key, value] : s) {
-    std::visit([&j, &key](const auto& v) { j[key] = v; }, value);
+  for (const auto& entry : s) {
+    std::visit([&j, &entry](const auto& v) { j[entry.first] = v; }, entry.second);
   }
   return j;
 }

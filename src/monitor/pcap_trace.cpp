@@ -283,7 +283,7 @@ class PcapTraceImpl final : public PcapTrace {
     // Radiotap header: version, pad, length, present; then the fields in bit
     // order, each aligned to its natural size from the header's start.
     std::uint32_t present = kRtTsft | kRtFlags | kRtDbmNoise;
-    const bool has_rate = e.phy == "ofdm" && e.rate_mbps != 0;
+    const bool has_rate = e.rate_mbps != 0;  // set for PHYs that declare a rate_mbps
     if (has_rate) present |= kRtRate;
     if (e.snr_db) present |= kRtDbmSignal;
     b.u8(0);  // version

@@ -37,7 +37,7 @@ struct FrameEvent {
   /// when there is no such receiver or no noise.
   std::optional<double> snr_db;
   std::string phy;                    ///< the sender's PHY type ("gmsk", "ofdm", ...)
-  unsigned rate_mbps = 0;             ///< ofdm only: the 802.11 rate
+  unsigned rate_mbps = 0;             ///< the sender PHY's rate_mbps setting (ofdm); 0: none
   std::vector<std::uint8_t> payload;  ///< the net frame's payload (without src/dst)
 };
 
