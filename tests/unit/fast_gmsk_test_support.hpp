@@ -81,4 +81,17 @@ inline void receive_chunked(Transceiver& rx, std::span<const cf32> x, std::size_
   }
 }
 
+/// Exactly one decode, valid, carrying `tag` and `payload`.
+inline void expect_decoded(const Collector& c, const FrameTag& tag,
+                           const std::vector<std::uint8_t>& payload) {
+  ASSERT_EQ(c.events.size(), 1U);
+  const Event& e = c.events.front();
+  EXPECT_TRUE(e.header_valid);
+  EXPECT_TRUE(e.payload_valid);
+  EXPECT_EQ(e.tag.src, tag.src);
+  EXPECT_EQ(e.tag.dst, tag.dst);
+  EXPECT_EQ(e.tag.serial, tag.serial);
+  EXPECT_EQ(e.payload, payload);
+}
+
 }  // namespace rfsitl::phy::fast_gmsk_test

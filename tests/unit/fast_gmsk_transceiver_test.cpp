@@ -30,14 +30,7 @@ void expect_exact_decode(unsigned k, std::size_t payload_bytes, std::size_t chun
   add_noise(air, std::pow(10.0, -1.5), 7 + k);  // 15 dB per-sample SNR
   Collector c;
   receive_chunked(*rx, air, chunk, c);
-  ASSERT_EQ(c.events.size(), 1U);
-  const Event& e = c.events.front();
-  EXPECT_TRUE(e.header_valid);
-  EXPECT_TRUE(e.payload_valid);
-  EXPECT_EQ(e.tag.src, tag.src);
-  EXPECT_EQ(e.tag.dst, tag.dst);
-  EXPECT_EQ(e.tag.serial, tag.serial);
-  EXPECT_EQ(e.payload, payload);
+  expect_decoded(c, tag, payload);
   EXPECT_FALSE(rx->rx_busy());
 }
 

@@ -19,6 +19,7 @@ namespace {
 using fast_gmsk_test::add_noise;
 using fast_gmsk_test::Collector;
 using fast_gmsk_test::Event;
+using fast_gmsk_test::expect_decoded;
 using fast_gmsk_test::make_payload;
 using fast_gmsk_test::receive_chunked;
 
@@ -48,17 +49,6 @@ std::vector<cf32> on_air(const std::vector<cf32>& f, std::size_t lead, std::size
     air[lead + i] = f[i] * std::polar(1.0F, static_cast<float>(turn));
   }
   return air;
-}
-
-void expect_decoded(const Collector& c, const FrameTag& tag, const std::vector<std::uint8_t>& p) {
-  ASSERT_EQ(c.events.size(), 1U);
-  const Event& e = c.events.front();
-  EXPECT_TRUE(e.header_valid);
-  EXPECT_TRUE(e.payload_valid);
-  EXPECT_EQ(e.tag.src, tag.src);
-  EXPECT_EQ(e.tag.dst, tag.dst);
-  EXPECT_EQ(e.tag.serial, tag.serial);
-  EXPECT_EQ(e.payload, p);
 }
 
 TEST(GfskTransceiver, LoopbackDecodesBothReceiversAtSeveralRatesAndLengths) {

@@ -4,6 +4,7 @@
 #include <span>
 
 #include "rfsitl/common/types.hpp"
+#include "rfsitl/common/xoshiro256.hpp"
 
 namespace rfsitl::channel {
 
@@ -21,10 +22,9 @@ class NoiseSource {
   void fill(std::span<cf32> buf);
 
  private:
-  std::uint64_t next_u64();
   double next_unit();  // uniform in (0, 1]
 
-  std::uint64_t s_[4];
+  Xoshiro256 rng_;
   float variance_;
   float sigma_per_dim_;
 };

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "rfsitl/common/xoshiro256.hpp"
 #include "rfsitl/config/fields.hpp"
 #include "rfsitl/position/mobility/csv_trace.hpp"
 #include "rfsitl/position/mobility/gauss_markov_model.hpp"
@@ -37,10 +38,8 @@ void checked(const Settings& s) {
 // Seed 0: each node its own track, from the scenario's seed and the node id.
 std::uint64_t node_seed(std::uint64_t seed, const MobilityContext& c) {
   if (seed != 0) return seed;
-  std::uint64_t z = c.scenario_seed + 0x9E3779B97F4A7C15ULL * (c.node + 1ULL);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
+  std::uint64_t state = c.scenario_seed + 0x9E3779B97F4A7C15ULL * c.node;
+  return splitmix64(state);
 }
 
 constexpr config::Range kAnyMetres{-1e8, 1e8};

@@ -1,38 +1,22 @@
 #pragma once
-// The random models' generator: xoshiro256** seeded through SplitMix64, and
-// the uniform and normal draws written out here rather than taken from
-// <random>, whose distributions differ between standard libraries. So a
-// seed names the same track with GCC or Clang, libstdc++ or libc++.
+// The random models' generator: the project's xoshiro256**
+// (rfsitl/common/xoshiro256.hpp), and the uniform and normal draws written out
+// here rather than taken from <random>, whose distributions differ between
+// standard libraries. So a seed names the same track with GCC or Clang,
+// libstdc++ or libc++.
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+
+#include "rfsitl/common/xoshiro256.hpp"
 
 namespace rfsitl::position::mobility::detail {
 
 class MobilityRandom {
  public:
-  explicit MobilityRandom(std::uint64_t seed) {
-    // SplitMix64 spreads any seed, 0 included, over the whole state.
-    for (std::uint64_t& word : s_) {
-      seed += 0x9e3779b97f4a7c15ULL;
-      std::uint64_t z = seed;
-      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-      z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-      word = z ^ (z >> 31);
-    }
-  }
+  explicit MobilityRandom(std::uint64_t seed) : rng_(seed) {}
 
-  std::uint64_t next_u64() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
+  std::uint64_t next_u64() { return rng_.next(); }
 
   /// Uniform in [0, 1): the top 53 bits as a fraction.
   double unit() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
@@ -48,9 +32,7 @@ class MobilityRandom {
   }
 
  private:
-  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-
-  std::uint64_t s_[4];
+  Xoshiro256 rng_;
 };
 
 }  // namespace rfsitl::position::mobility::detail
