@@ -42,8 +42,8 @@ Point measure(const scenario::PhyChoice& phy, const std::string& label, double s
   s.phy = phy;
   s.timing.mode = scenario::TimeMode::kVirtual;
   s.channel.noise_variance = std::pow(10.0, -snr_db / 10.0);
-  s.nodes = {{1, LocalPosition{0, 0, 10}, std::nullopt, std::nullopt},
-             {2, LocalPosition{0, 0, 10}, std::nullopt, std::nullopt}};
+  s.nodes = {scenario::NodeConfig::at(1, LocalPosition{0, 0, 10}),
+             scenario::NodeConfig::at(2, LocalPosition{0, 0, 10})};
   const double frame_s =
       static_cast<double>(phy::make_transceiver(phy.type, phy.settings)->frame_samples(payload)) /
       s.timing.sample_rate_hz;

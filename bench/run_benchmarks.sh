@@ -2,23 +2,27 @@
 # The benchmark suite: set up, build (release), measure, and write CSV files, PNG
 # plots and summary.md into out/bench/ (the paper's numbers beside ours).
 #
-#   bash bench/run_benchmarks.sh            # full run, about 7 minutes on 2 cores
+#   bash bench/run_benchmarks.sh            # full run, about 9 minutes on 2 cores
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity virtual mix dashboard" by default; any subset):
+# Stages (STAGES="fig4 fig5 capacity virtual mobility mix dashboard" by default; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
 #             real time (rfsitl_swarm_load); largest N that keeps real time (definition:
 #             scripts/bench_collect.py) and its delivery ratio
 #   virtual   simulated seconds per wall second, VIRT_NODES nodes, 1 frame/node/s
+#   mobility  share of the wall time spent moving MOB_NODES random-waypoint nodes in
+#             virtual time, every node pinging a random node once a second (frame and
+#             scheduled answer), at 10 ms and 1 ms updates (rfsitl_mobility_share)
 #   mix       channel::mix complex MAC/s beside the CPU's measured peak
 #   dashboard CPU, peak memory and lag of a DASH_NODES-node run with the dashboard off,
 #             on, and with 1 and 4 WebSocket viewers (bench/dashboard_cost.py)
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
-#   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MIX_SECONDS=0.2  PORT_BASE=20000
+#   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
+#   MIX_SECONDS=0.2  PORT_BASE=20000
 #   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)
 # Every emulator binds 127.0.0.1, gets its own port range (PORT_BASE + 1000 k) and is
 # always stopped (SIGINT, then SIGKILL after 30 s), also when this script fails.
@@ -29,10 +33,10 @@ T_START=$(date +%s)
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
   D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
-  D_DASH_S=5
+  D_DASH_S=5 D_MOB_S=10,5
 else
   D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAP_S=60
-  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20
+  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10
 fi
 OUT="${OUT:-out/bench}"
 COUNT="${COUNT:-$D_COUNT}"
@@ -42,8 +46,10 @@ CAP_SECONDS="${CAP_SECONDS:-$D_CAP_S}"
 VIRT_NODES="${VIRT_NODES:-15}"
 VIRT_SECONDS="${VIRT_SECONDS:-$D_VIRT_S}"
 MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
+MOB_NODES="${MOB_NODES:-64}"
+MOB_SECONDS="${MOB_SECONDS:-$D_MOB_S}"  # virtual seconds at 10 ms, at 1 ms
 PORT_BASE="${PORT_BASE:-20000}"
-STAGES="${STAGES-fig4 fig5 capacity virtual mix dashboard}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity virtual mobility mix dashboard}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 # Architectures of the Fig. 4 CDF. Each name A needs a function fig4_start_A LOG JSON
@@ -243,6 +249,14 @@ if stage virtual; then
       --csv "$OUT/virtual_speed.csv"
   done
   mark virtual
+fi
+
+if stage mobility; then
+  echo "== Mobility's share: N = $MOB_NODES random waypoint, $MOB_SECONDS virtual s at 10 ms, 1 ms"
+  rm -f "$OUT/mobility_share.csv"
+  "$BENCH"/rfsitl_mobility_share --nodes "$MOB_NODES" --update 0.01,0.001 \
+    --duration "$MOB_SECONDS" --runs 3 --csv "$OUT/mobility_share.csv"
+  mark mobility
 fi
 
 if stage mix; then

@@ -95,3 +95,38 @@ for name in sorted(os.listdir(os.path.join(repo, 'scenarios'))):
     if name.endswith('.yaml'):
         os.makedirs(os.path.join(HERE, 'corpus', 'scenario'), exist_ok=True)
         shutil.copyfile(os.path.join(repo, 'scenarios', name), os.path.join(HERE, 'corpus', 'scenario', name))
+
+
+# vehicle_link: [settings][chunks of [len][dt tenths][bytes]] (vehicle_link_fuzzer.cpp),
+# frames from the spec-written test vehicle.
+def vehicle_seeds():
+    import sys
+    sys.path.insert(0, os.path.join(HERE, '..', 'tests', 'integration'))
+    import mavlink_vehicle as mv
+    hb = {'type': 2, 'autopilot': 3, 'base_mode': 1, 'custom_mode': 0, 'system_status': 4,
+          'mavlink_version': 3}
+
+    def pos(lat, lon, alt):
+        return {'time_boot_ms': 1000, 'lat': lat, 'lon': lon, 'alt': alt, 'relative_alt': 0,
+                'vx': 100, 'vy': -50, 'vz': 0, 'hdg': 9000}
+    att = {'time_boot_ms': 1000, 'roll': 0.1, 'pitch': -0.1, 'yaw': 1.0, 'rollspeed': 0.0,
+           'pitchspeed': 0.0, 'yawspeed': 0.0}
+    ack = {'command': 511, 'result': 3, 'target_system': 1, 'target_component': 191}
+
+    def chunks(frames, dt=3):
+        return b''.join(bytes([len(f), dt]) + f for f in frames)
+    for version in (1, 2):
+        frames = [mv.encode(mv.HEARTBEAT, hb, 0, 1, 1, version),
+                  mv.encode(mv.GLOBAL_POSITION_INT, pos(0, 0, 0), 1, 1, 1, version),
+                  mv.encode(mv.GLOBAL_POSITION_INT, pos(430008000, -787890000, 250000), 2, 1, 1,
+                            version),
+                  mv.encode(mv.ATTITUDE, att, 3, 1, 1, version),
+                  mv.encode(77, ack, 4, 1, 1, version),
+                  mv.encode(mv.GLOBAL_POSITION_INT, pos(950000000, 10, 0), 5, 9, 1, version)]
+        w('vehicle_link', f'vehicle_v{version}', bytes([0x30]) + chunks(frames))
+    w('vehicle_link', 'configured_sysid_signed',
+      bytes([0x13]) + chunks([mv.encode(mv.GLOBAL_POSITION_INT, pos(1, 1, 1), 0, 0x13, 1, 2,
+                                        signed=True)], dt=40))
+
+
+vehicle_seeds()

@@ -1,5 +1,6 @@
-/// `rfsitl describe`: every registered component (PHY, and as they arrive MAC,
-/// channel stage, position source) with its declared settings. The settings
+/// `rfsitl describe`: every registered component (live position source,
+/// mobility model, PHY; MACs and channel stages as they arrive) with its
+/// declared settings. The settings
 /// tables in scenarios/README.md are `rfsitl describe --markdown`.
 #include <cstdio>
 #include <string>
@@ -9,6 +10,7 @@
 #include "rfsitl/config/settings_table.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
+#include "rfsitl/registry/position_source_registry.hpp"
 
 namespace rfsitl::app {
 namespace {
@@ -19,11 +21,13 @@ struct DescribeOptions {
   bool markdown = false;
 };
 
-// Every registered component, grouped by kind in data-path order.
+// Every registered component, grouped by kind in data-path order: where nodes
+// are (live sources, mobility models), then the transceivers.
 std::vector<const config::ComponentInfo*> all_components() {
   std::vector<const config::ComponentInfo*> out;
-  for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
+  for (const auto& s : position::position_source_components()) out.push_back(&s.info);
   for (const auto& m : position::mobility::mobility_components()) out.push_back(&m.info);
+  for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
   return out;
 }
 

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "live_sources.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/external/external_runtime.hpp"
 #include "rfsitl/io/bind_address.hpp"
@@ -107,6 +108,7 @@ struct RunOptions {
   bool no_skip = false;
   bool shared_noise = false;
   std::string summary_json;
+  std::optional<std::string> mavlink;  ///< --mavlink ENDPOINT[+STEP]
 };
 
 scenario::Scenario build_scenario(const RunOptions& o) {
@@ -129,6 +131,7 @@ scenario::Scenario build_scenario(const RunOptions& o) {
       scenario::apply_setting(s, kSettingFlags[i].key, *v, std::string(kSettingFlags[i].flag));
     }
   }
+  if (o.mavlink) follow_mavlink(s, *o.mavlink);
   if (o.no_skip) scenario::apply_setting(s, "engine.skip_idle_receivers", "false", "--no-skip");
   if (o.shared_noise) scenario::apply_setting(s, "channel.shared_noise", "true", "--shared-noise");
   if (o.scenario_path.empty()) s.nodes = scenario::default_formation(s.nodes.size(), s.channel);
@@ -159,7 +162,8 @@ std::string format_position(const std::optional<Position>& p) {
   return buf;
 }
 
-void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
+void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc,
+                  const LiveSources& sources) {
   const double tick_ms = 1e3 * s.timing.tick_samples / s.timing.sample_rate_hz;
   std::printf(
       "rfsitl: scenario '%s': %zu nodes, fs %.0f Hz, tick %u samples (%.3f ms), %s x%.2f, "
@@ -170,8 +174,9 @@ void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc) {
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const auto& n = s.nodes[i];
     const bool own_net = !s.phy_of(i).external_program();
-    const std::string where = n.mobility ? "moves: mobility " + n.mobility->type
-                                         : "start " + format_position(n.initial_position);
+    std::string where = n.mobility ? "moves: mobility " + n.mobility->type
+                                   : "start " + format_position(n.initial_position);
+    if (const auto live = sources.status(i)) where += ", follows " + live->type + " " + live->where;
     std::printf("  node %3u: %-26s net %s:%u%s  location %s:%u  %s\n", n.id,
                 s.phy_of(i).label().c_str(), sc.bind_address.c_str(),
                 io::NodeServers::net_port(sc, n.id), own_net ? "" : " (its program's)",
@@ -300,6 +305,9 @@ int run(const RunOptions& o) {
   // Observers of the engine: destroyed before it.
   std::unique_ptr<monitor::PcapTrace> pcap;
   std::unique_ptr<monitor::SigmfRecorder> sigmf;
+  // Live sources report into the engine and the dashboard reads them: declared
+  // between the two so that they are destroyed in that order.
+  std::unique_ptr<LiveSources> sources;
   std::unique_ptr<monitor::Dashboard> dashboard;
   try {
     external = external::ExternalRuntime::create(s);
@@ -325,12 +333,15 @@ int run(const RunOptions& o) {
       engine->add_observer(*sigmf);
     }
     servers->start(*engine);
+    sources = std::make_unique<LiveSources>(s);
+    sources->start(*engine);
     if (!o.no_dashboard) {
       monitor::DashboardSettings ds;
       ds.bind_address = bind_address;
       ds.port = o.dashboard_port.value_or(ds.port);
       ds.fall_back_to_any_port = !o.dashboard_port;
       ds.control = o.dashboard_control;
+      ds.sources = sources->status_fn();
       dashboard = monitor::start_dashboard(ds, s, *engine);
     }
     if (external) external->start_children();
@@ -338,7 +349,7 @@ int run(const RunOptions& o) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
     return 2;
   }
-  print_banner(s, sc);
+  print_banner(s, sc, *sources);
   if (dashboard) {
     std::printf("rfsitl: dashboard %s (moving nodes %s)\n", dashboard->url().c_str(),
                 o.dashboard_control ? "allowed" : "off; --dashboard-control allows it");
@@ -385,6 +396,7 @@ int run(const RunOptions& o) {
   }
   stop.store(true);
   engine_thread.join();
+  sources->stop();
   servers->stop();
   if (sigmf) sigmf->finish();
   if (pcap) {
@@ -395,7 +407,7 @@ int run(const RunOptions& o) {
   print_summary(*engine);
   if (external) print_external_summary(*external);
   if (summary_out.is_open()) {
-    nlohmann::json j = monitor::stats_json(s, *engine);
+    nlohmann::json j = monitor::stats_json(s, *engine, sources->status_fn());
     if (external) j["external"] = external->summary();
     summary_out << monitor::json_text(j, 2) << "\n";
     summary_out.flush();
@@ -453,6 +465,10 @@ std::function<int()> add_run_command(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--dashboard-port", opts->dashboard_port,
                   "Port of the web dashboard (default 15700, or any free port if taken; 0: any)");
+  cmd->add_option("--mavlink", opts->mavlink,
+                  "Follow MAVLink vehicles: tcp:HOST:PORT (connect) or udp:HOST:PORT (listen), "
+                  "+STEP: node n uses PORT + STEP (n - 1); e.g. tcp:127.0.0.1:5762+10 follows "
+                  "ArduPilot SITL instances 0, 1, 2 ...");
   cmd->add_flag("--no-dashboard", opts->no_dashboard, "Do not serve the web dashboard");
   cmd->add_flag("--dashboard-control", opts->dashboard_control,
                 "Let dashboard viewers move nodes (off by default)");

@@ -23,7 +23,7 @@ void ComponentInfo::validate(const Settings& s) const {
   for (const Setting& d : settings) {
     const Value* v = s.find(d.name);
     if (v == nullptr) throw SettingError(d.name, "missing");
-    if (auto reason = d.reject_reason(*v)) throw SettingError(d.name, *reason);
+    if (auto why = d.rejection(*v)) throw SettingError(d.name + why->where, why->reason);
   }
   if (check) check(s);
 }

@@ -1,11 +1,64 @@
 #include "rfsitl/config/settings_json.hpp"
 
+#include <type_traits>
+
 namespace rfsitl::config {
+namespace {
+
+// [{"t": 0, "x": 1}, ...]: the items as given, fields in declaration order.
+nlohmann::json records_json(const Records& items) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Record& r : items) {
+    nlohmann::json item = nlohmann::json::object();
+    for (const auto& [name, value] : r) item[name] = value;
+    j.push_back(std::move(item));
+  }
+  return j;
+}
+
+// The items of list setting `d` from a JSON array of objects of numbers. Keys
+// are taken in declaration order, so that a round trip gives equal records;
+// required fields and limits are left to validate(), which names the item.
+Records records_from_json(const Setting& d, const nlohmann::json& j) {
+  if (!j.is_array()) throw SettingError(d.name, "expected a list, got " + j.dump());
+  Records out;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const nlohmann::json& item = j[i];
+    const std::string at = d.name + "[" + std::to_string(i) + "]";
+    if (!item.is_object()) throw SettingError(at, "expected an object, got " + item.dump());
+    for (const auto& kv : item.items()) {
+      if (d.items.find(kv.key()) == nullptr) {
+        throw SettingError(at + "." + kv.key(),
+                           "unknown key (allowed: " + d.items.field_names() + ")");
+      }
+      if (!kv.value().is_number()) {
+        throw SettingError(at + "." + kv.key(), "expected a number, got " + kv.value().dump());
+      }
+    }
+    Record r;
+    for (const RecordField& f : d.items.fields) {
+      const auto v = item.find(f.name);
+      if (v != item.end()) r.set(f.name, v->get<double>());
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+}  // namespace
 
 nlohmann::json to_json(const Settings& s) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& entry : s) {
-    std::visit([&j, &entry](const auto& v) { j[entry.first] = v; }, entry.second);
+    std::visit(
+        [&j, &entry](const auto& v) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, Records>) {
+            j[entry.first] = records_json(v);
+          } else {
+            j[entry.first] = v;
+          }
+        },
+        entry.second);
   }
   return j;
 }
@@ -42,6 +95,9 @@ Settings settings_from_json(const ComponentInfo& component, const nlohmann::json
       case ValueType::kText:
         if (!v.is_string()) throw wrong();
         s.set(d.name, v.get<std::string>());
+        break;
+      case ValueType::kRecords:
+        s.set(d.name, records_from_json(d, v));
         break;
     }
   }

@@ -12,9 +12,11 @@ std::string_view short_type(ValueType t) {
     case ValueType::kReal:
       return "real";
     case ValueType::kText:
+      return "text";
+    case ValueType::kRecords:
       break;
   }
-  return "text";
+  return "list";
 }
 
 // A table cell: '|' would end the cell early.
@@ -23,19 +25,39 @@ std::string cell(std::string s) {
   return s;
 }
 
+std::string code(const std::string& s) {
+  return s.empty() ? "" : "`" + cell(s) + "`";
+}
+
+// What an item of list setting `s` may give, one row per field.
+std::string item_table(const Setting& s) {
+  std::string out = "\nEach item of `" + s.name + "`:\n\n";
+  out += "| field | unit | default | allowed | meaning |\n";
+  out += "|---|---|---|---|---|\n";
+  for (const RecordField& f : s.items.fields) {
+    const std::string shown = f.required        ? "required"
+                              : f.default_value ? code(number_text(*f.default_value))
+                                                : "";
+    out += "| `" + f.name + "` | " + cell(f.unit) + " | " + shown + " | " + cell(f.range.text()) +
+           " | " + cell(f.doc) + " |\n";
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string settings_table(const ComponentInfo& component) {
   if (component.settings.empty()) return "(no settings)\n";
   std::string out = "| setting | type | unit | default | allowed | meaning |\n";
   out += "|---|---|---|---|---|---|\n";
+  std::string items;
   for (const Setting& s : component.settings) {
-    const std::string shown = to_text(s.default_value);
     out += "| `" + s.name + "` | " + std::string(short_type(s.type)) + " | " + cell(s.unit) +
-           " | " + (shown.empty() ? "" : "`" + cell(shown) + "`") + " | " + cell(s.limits_text()) +
-           " | " + cell(s.doc) + " |\n";
+           " | " + code(to_text(s.default_value)) + " | " + cell(s.limits_text()) + " | " +
+           cell(s.doc) + " |\n";
+    if (s.type == ValueType::kRecords) items += item_table(s);
   }
-  return out;
+  return out + items;
 }
 
 }  // namespace rfsitl::config

@@ -1,6 +1,7 @@
 #include "rfsitl/engine/engine.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <deque>
 #include <mutex>
@@ -9,6 +10,7 @@
 
 #include "event_reporter.hpp"
 #include "mobility_driver.hpp"
+#include "node_state_inbox.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/channel/link_model.hpp"
@@ -101,10 +103,10 @@ class LockStepEngine final : public Engine {
         pool_(worker_count(s)),
         traffic_(s.traffic, s.timing.sample_rate_hz),
         mobility_(s),
-        reporter_(scenario_, channel_) {
+        reporter_(scenario_, channel_),
+        inbox_(s.nodes.size(), s.channel.origin) {
     const std::size_t n = s.nodes.size();
     nodes_.resize(n);
-    pending_positions_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       Node& node = nodes_[i];
       node.id = s.nodes[i].id;
@@ -113,7 +115,7 @@ class LockStepEngine final : public Engine {
       ids_.push_back(node.id);
       const scenario::PhyChoice& phy = s.phy_of(i);
       if (factory) {
-        node.radio = factory(i, phy);
+        node.radio = factory(i, phy, counters_[i]);
       } else if (s.runs_externally(i)) {
         throw std::invalid_argument("node " + std::to_string(node.id) +
                                     " runs in another process, but no external hub was set up");
@@ -213,10 +215,18 @@ class LockStepEngine final : public Engine {
   }
 
   void set_position(std::size_t node, std::optional<Ecef> position) override {
-    std::lock_guard lock(positions_mutex_);
-    pending_positions_[node].emplace(position);
-    positions_dirty_.store(true, std::memory_order_release);
+    inbox_.move(node, position, false);
   }
+
+  void report(std::size_t node, const position::StateReport& r) override {
+    if (r.position) {
+      inbox_.move(node, channel::to_ecef(*r.position, scenario_.channel.origin),
+                  r.velocity.has_value());
+    }
+    inbox_.set_motion(node, {r.velocity, r.attitude});
+  }
+
+  std::vector<position::NodeMotion> motions() const override { return inbox_.motions(); }
 
   NodeCounters& counters(std::size_t node) override { return counters_[node]; }
 
@@ -233,6 +243,7 @@ class LockStepEngine final : public Engine {
     st.receiver_ticks_run = rd(status_.receiver_ticks_run);
     st.receiver_ticks_skipped = rd(status_.receiver_ticks_skipped);
     st.receiver_ticks_blanked = rd(status_.receiver_ticks_blanked);
+    st.mobility_wall_s = rd(status_.mobility_wall_s);
     return st;
   }
 
@@ -282,18 +293,19 @@ class LockStepEngine final : public Engine {
   }
 
   void apply_positions() {
-    if (positions_dirty_.exchange(false, std::memory_order_acq_rel)) {
-      std::lock_guard lock(positions_mutex_);
-      for (std::size_t i = 0; i < pending_positions_.size(); ++i) {
-        if (pending_positions_[i]) {
-          channel_.set_position(i, *pending_positions_[i]);
-          pending_positions_[i].reset();
-        }
-      }
-      geometry_stale_ = true;
-    }
+    const double now_s = static_cast<double>(now_) / scenario_.timing.sample_rate_hz;
+    if (inbox_.apply(now_s, channel_)) geometry_stale_ = true;
     // After the feeds: a modelled node follows its model again at each update.
-    if (mobility_.update(now_, channel_)) geometry_stale_ = true;
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool moved =
+        mobility_.update(now_, channel_, [this](std::size_t node, const position::Velocity& v) {
+          inbox_.set_motion(node, {v, std::nullopt});
+        });
+    if (moved) {
+      geometry_stale_ = true;
+      mobility_wall_s_ +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
     if (geometry_stale_ && now_ >= next_geometry_copy_) publish_geometry();
   }
 
@@ -520,6 +532,7 @@ class LockStepEngine final : public Engine {
     wr(status_.max_lag_s, clock_.max_lag_s());
     wr(status_.late_ticks, clock_.late_ticks());
     wr(status_.late_decodes, ledger_->late_decodes());
+    wr(status_.mobility_wall_s, mobility_wall_s_);
     wr(status_.receiver_ticks_run, run_ticks_);
     wr(status_.receiver_ticks_skipped, skipped_ticks_);
     wr(status_.receiver_ticks_blanked, blanked_ticks_);
@@ -562,9 +575,8 @@ class LockStepEngine final : public Engine {
   SampleTime next_geometry_copy_ = 0;
   static constexpr double kGeometryCopyPeriodS = 0.02;
 
-  std::mutex positions_mutex_;
-  std::vector<std::optional<std::optional<Ecef>>> pending_positions_;
-  std::atomic<bool> positions_dirty_{false};
+  NodeStateInbox inbox_;
+  double mobility_wall_s_ = 0.0;  // engine thread only
 
   struct AtomicStatus {
     std::atomic<SampleTime> virtual_samples{0};
@@ -575,6 +587,7 @@ class LockStepEngine final : public Engine {
     std::atomic<std::uint64_t> receiver_ticks_run{0};
     std::atomic<std::uint64_t> receiver_ticks_skipped{0};
     std::atomic<std::uint64_t> receiver_ticks_blanked{0};
+    std::atomic<double> mobility_wall_s{0.0};
   } status_;
 };
 

@@ -31,6 +31,7 @@ NodeCountersSnapshot NodeCounters::snapshot() const {
   s.to_agent_dropped = rd(to_agent_dropped);
   s.location_updates = rd(location_updates);
   s.location_errors = rd(location_errors);
+  s.external_stalls = rd(external_stalls);
   return s;
 }
 

@@ -41,11 +41,15 @@ MobilityDriver::MobilityDriver(const scenario::Scenario& s)
   }
 }
 
-bool MobilityDriver::update(SampleTime now, channel::ChannelMatrix& channel) {
+bool MobilityDriver::update(
+    SampleTime now, channel::ChannelMatrix& channel,
+    const std::function<void(std::size_t, const position::Velocity&)>& velocity) {
   if (moving_.empty() || now < next_) return false;
   const double t_s = static_cast<double>(now) / sample_rate_hz_;
   for (const Moving& m : moving_) {
-    channel.set_position(m.index, channel::local_to_ecef(m.model->state_at(t_s).position, origin_));
+    const position::mobility::MotionState state = m.model->state_at(t_s);
+    channel.set_position(m.index, channel::local_to_ecef(state.position, origin_));
+    velocity(m.index, state.velocity);
   }
   next_ = now + interval_;
   return true;

@@ -2,6 +2,7 @@
 // Internal to the engine: moves the nodes that have a mobility model, on the
 // virtual clock, every engine.mobility_update_s. Engine thread only.
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -21,9 +22,11 @@ class MobilityDriver {
   bool empty() const { return moving_.empty(); }
 
   /// At the first tick at or after each update time: sets every modelled node's
-  /// position for the virtual time `now` (samples). Returns true when it did.
-  /// A node's position thus lags its model by at most one update interval.
-  bool update(SampleTime now, channel::ChannelMatrix& channel);
+  /// position for the virtual time `now` (samples), and tells `velocity` each
+  /// one's velocity. Returns true when it did. A node's position thus lags its
+  /// model by at most one update interval.
+  bool update(SampleTime now, channel::ChannelMatrix& channel,
+              const std::function<void(std::size_t, const position::Velocity&)>& velocity);
 
  private:
   struct Moving {

@@ -2,17 +2,13 @@
 
 #include <stdexcept>
 
-#include <nlohmann/json.hpp>
-
 namespace rfsitl::external {
 
 const Welcome& ExternalClient::connect() {
   channel_ = MessageChannel::connect_to(settings_.socket_path);
   // have_tick_ survives a reconnection: the first tick after rejoining is
   // compared with the last one before the drop.
-  const nlohmann::json hello = {
-      {"node_id", settings_.node_id}, {"role", settings_.role}, {"program", settings_.program}};
-  const std::string text = hello.dump();
+  const std::string text = hello_json({settings_.node_id, settings_.role, settings_.program});
   MsgHeader h;
   h.type = static_cast<std::uint16_t>(MsgType::kHello);
   if (!channel_.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()})) {
@@ -36,21 +32,15 @@ const Welcome& ExternalClient::connect() {
                              message_type_name(message_.header.type));
   }
   try {
-    const auto j = nlohmann::json::parse(message_.extra_text());
-    welcome_.node_id = j.at("node_id").get<NodeId>();
-    welcome_.sample_rate_hz = j.at("sample_rate_hz").get<double>();
-    welcome_.tick_samples = j.at("tick_samples").get<std::uint32_t>();
-    welcome_.virtual_time = j.at("time_mode").get<std::string>() == "virtual";
-    welcome_.phy_json = j.contains("phy") ? j["phy"].dump() : std::string();
-    if (j.at("protocol").get<int>() != kProtocolVersion || welcome_.node_id != settings_.node_id) {
-      throw std::runtime_error("protocol " + std::to_string(j.at("protocol").get<int>()) +
-                               " for node " + std::to_string(welcome_.node_id) + ", expected " +
-                               std::to_string(kProtocolVersion) + " for node " +
-                               std::to_string(settings_.node_id));
-    }
-  } catch (const std::exception& e) {
+    welcome_ = read_welcome(message_.extra_text());
+  } catch (const HandshakeError& e) {
     channel_.close();
     throw std::runtime_error(where + "bad welcome: " + e.what());
+  }
+  if (welcome_.node_id != settings_.node_id) {
+    channel_.close();
+    throw std::runtime_error(where + "bad welcome: it is for node " +
+                             std::to_string(welcome_.node_id));
   }
   return welcome_;
 }

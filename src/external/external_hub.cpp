@@ -7,16 +7,21 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <thread>
+#include <vector>
 
 #include <spdlog/spdlog.h>
-#include <nlohmann/json.hpp>
 
+#include "rfsitl/common/log_text.hpp"
+#include "rfsitl/common/unix_socket_path.hpp"
+#include "rfsitl/external/handshake.hpp"
 #include "rfsitl/external/repeat_limiter.hpp"
 
 namespace rfsitl::external {
@@ -27,7 +32,11 @@ const char* role_name(Role role) {
 
 namespace {
 
-constexpr int kHelloTimeoutMs = 2000;
+using Clock = std::chrono::steady_clock;
+
+/// How long the listener rests after accept() ran out of descriptors (it stays
+/// readable meanwhile, so polling it again at once would only spin).
+constexpr auto kAcceptRetry = std::chrono::milliseconds(100);
 
 class Hub final : public ExternalHub {
  public:
@@ -54,7 +63,7 @@ class Hub final : public ExternalHub {
     for (const auto& p : refusal_log_.take_pending()) {
       spdlog::warn("external socket {}: refused {} more connection(s) since the last report: {}",
                    settings_.socket_path, p.repeats,
-                   p.key.empty() ? std::string("other reasons") : p.key);
+                   p.key.empty() ? std::string("other reasons") : log_text(p.key));
     }
     ::close(listen_fd_);
     ::close(wake_pipe_[0]);
@@ -81,14 +90,15 @@ class Hub final : public ExternalHub {
 
  private:
   static int bind_socket(const std::string& path) {
-    sockaddr_un addr{};
-    if (path.empty() || path.size() >= sizeof addr.sun_path) {
-      throw std::runtime_error("external socket path must be 1.." +
-                               std::to_string(sizeof addr.sun_path - 1) + " bytes: '" + path + "'");
+    if (const std::string why = unix_socket_path_error(path); !why.empty()) {
+      throw std::runtime_error("external socket path '" + path + "' " + why);
     }
+    sockaddr_un addr{};
     addr.sun_family = AF_UNIX;
     std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
-    const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
+    // Non-blocking: a connection that goes away between poll() and accept()
+    // must not stall the accept thread.
+    const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
     if (fd < 0) throw std::runtime_error(std::string("socket(): ") + std::strerror(errno));
     const auto* sa = reinterpret_cast<const sockaddr*>(&addr);
     int rc = ::bind(fd, sa, sizeof addr);
@@ -119,13 +129,68 @@ class Hub final : public ExternalHub {
     return fd;
   }
 
+  // One thread, one poll() over the listener and every connection that has not
+  // said hello yet: each connection has its own deadline, so a silent one
+  // delays nobody (a rejoining node is admitted as soon as its hello arrives).
   void accept_loop() {
+    std::vector<pollfd> fds;
     while (!stopping_.load()) {
-      pollfd p[2] = {{listen_fd_, POLLIN, 0}, {wake_pipe_[0], POLLIN, 0}};
-      if (::poll(p, 2, -1) < 0) continue;
-      if (p[1].revents != 0) return;
-      const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
-      if (fd >= 0) admit(MessageChannel(fd));
+      const bool accepting = Clock::now() >= accept_resumes_;
+      fds.assign({{wake_pipe_[0], POLLIN, 0}, {accepting ? listen_fd_ : -1, POLLIN, 0}});
+      for (const auto& w : waiting_) fds.push_back({w.channel.fd(), POLLIN, 0});
+      if (::poll(fds.data(), fds.size(), poll_timeout_ms()) < 0 && errno != EINTR) {
+        spdlog::error("external socket {}: poll(): {}", settings_.socket_path,
+                      std::strerror(errno));
+        return;
+      }
+      if (fds[0].revents != 0) return;
+      // From the back, so that the indexes still to visit stay valid.
+      for (std::size_t i = waiting_.size(); i-- > 0;) {
+        if (fds[2 + i].revents != 0 && settle(waiting_[i].channel)) {
+          waiting_.erase(waiting_.begin() + static_cast<std::ptrdiff_t>(i));
+        }
+      }
+      refuse_silent(Clock::now());
+      if (fds[1].revents != 0) accept_one();
+    }
+  }
+
+  // Until the nearest hello deadline or the end of an accept pause; -1: none.
+  int poll_timeout_ms() const {
+    std::optional<Clock::time_point> next;
+    if (accept_resumes_ > Clock::now()) next = accept_resumes_;
+    for (const auto& w : waiting_) {
+      if (!next || w.deadline < *next) next = w.deadline;
+    }
+    if (!next) return -1;
+    const auto wait = std::chrono::ceil<std::chrono::milliseconds>(*next - Clock::now());
+    return static_cast<int>(std::max<std::chrono::milliseconds::rep>(wait.count(), 0));
+  }
+
+  void accept_one() {
+    const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+    if (fd < 0) {
+      if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
+        accept_resumes_ = Clock::now() + kAcceptRetry;
+      }
+      return;  // EAGAIN, ECONNABORTED: the connection went away; nothing to do
+    }
+    if (waiting_.size() >= kMaxWaitingHellos) {
+      reject(waiting_.front().channel,
+             "more than " + std::to_string(kMaxWaitingHellos) +
+                 " connections waiting to say hello; this one waited longest");
+      waiting_.erase(waiting_.begin());
+    }
+    waiting_.push_back(
+        {MessageChannel(fd), Clock::now() + std::chrono::milliseconds(settings_.hello_timeout_ms)});
+  }
+
+  // Refuses, oldest first, the connections whose hello is overdue.
+  void refuse_silent(Clock::time_point now) {
+    while (!waiting_.empty() && waiting_.front().deadline <= now) {
+      reject(waiting_.front().channel, "expected a hello message within " +
+                                           std::to_string(settings_.hello_timeout_ms) + " ms");
+      waiting_.erase(waiting_.begin());
     }
   }
 
@@ -145,73 +210,82 @@ class Hub final : public ExternalHub {
     const std::string& path = settings_.socket_path;
     const double period_s =
         std::chrono::duration<double>(refusal_log_.settings().summary_every).count();
+    // `why` quotes the client's own words (its role, a bad value).
     switch (v.action) {
       case RepeatLimiter::Action::kLog:
-        spdlog::warn("external socket {}: refused a connection: {}", path, why);
+        spdlog::warn("external socket {}: refused a connection: {}", path, log_text(why));
         break;
       case RepeatLimiter::Action::kLogLast:
         spdlog::warn(
             "external socket {}: refused a connection: {} (further refusals {} are logged "
             "once per {:.0f} s with a count)",
-            path, why, v.other_keys ? "for new reasons" : "for this reason", period_s);
+            path, log_text(why), v.other_keys ? "for new reasons" : "for this reason", period_s);
         break;
       case RepeatLimiter::Action::kSummarize:
         spdlog::warn("external socket {}: refused {} more connection(s) in the last {:.1f} s: {}{}",
                      path, v.repeats, v.seconds,
-                     v.other_keys ? "various reasons, the latest: " : "", why);
+                     v.other_keys ? "various reasons, the latest: " : "", log_text(why));
         break;
       case RepeatLimiter::Action::kQuiet:
         break;
     }
   }
 
-  // Handshakes one connection on the accept thread; a slow peer delays the next
-  // admission by at most kHelloTimeoutMs.
-  void admit(MessageChannel ch) {
+  // A waiting connection became readable: its hello (admitted or refused), a
+  // hang-up, or anything else (refused). Returns false when nothing was there
+  // after all, so that it keeps waiting.
+  bool settle(MessageChannel& ch) {
     Message hello;
-    const RecvStatus st = ch.receive(hello, kHelloTimeoutMs);
-    if (st == RecvStatus::kClosed) return;  // a probe (e.g. another emulator checking the path)
-    if (st != RecvStatus::kOk || hello.type() != MsgType::kHello) {
-      return reject(ch,
-                    "expected a hello message within " + std::to_string(kHelloTimeoutMs) + " ms");
+    const RecvStatus st = ch.receive(hello, 0);
+    if (st == RecvStatus::kTimeout) return false;
+    // A hang-up without a word: a probe (e.g. another emulator checking the path).
+    if (st == RecvStatus::kClosed) return true;
+    if (st == RecvStatus::kMalformed) {
+      reject(ch, "expected a hello message, got a malformed message");
+    } else if (hello.type() != MsgType::kHello) {
+      reject(ch,
+             std::string("expected a hello message, got ") + message_type_name(hello.header.type));
+    } else {
+      admit(std::move(ch), hello);
     }
-    nlohmann::json j;
-    unsigned id = 0;
-    std::string role;
-    std::string program;
+    return true;
+  }
+
+  void admit(MessageChannel ch, const Message& message) {
+    Hello hello;
     try {
-      j = nlohmann::json::parse(hello.extra_text());
-      id = j.at("node_id").get<unsigned>();
-      role = j.at("role").get<std::string>();
-      program = j.value("program", std::string("external"));
-    } catch (const nlohmann::json::exception& e) {
+      hello = read_hello(message.extra_text());
+    } catch (const HandshakeError& e) {
       return reject(ch, std::string("bad hello JSON: ") + e.what());
     }
-    const auto it = id <= kMaxNodeId ? specs_.find(static_cast<NodeId>(id)) : specs_.end();
+    const auto it = specs_.find(hello.node_id);
     if (it == specs_.end()) {
       std::string ids;
       for (const auto& [nid, spec] : specs_) ids += (ids.empty() ? "" : ", ") + std::to_string(nid);
-      return reject(ch, "node " + std::to_string(id) +
+      return reject(ch, "node " + std::to_string(hello.node_id) +
                             " is not an external node of this scenario (external nodes: " +
                             (ids.empty() ? "none" : ids) + ")");
     }
     const ExternalNodeSpec& spec = it->second;
-    if (role != role_name(spec.role)) {
-      return reject(ch, "node " + std::to_string(id) + " expects role '" + role_name(spec.role) +
-                            "', the program connected as '" + role + "'");
+    if (hello.role != role_name(spec.role)) {
+      return reject(ch, "node " + std::to_string(hello.node_id) + " expects role '" +
+                            role_name(spec.role) + "', the program connected as '" + hello.role +
+                            "'");
     }
-    nlohmann::json welcome = {{"protocol", kProtocolVersion},
-                              {"node_id", id},
-                              {"sample_rate_hz", settings_.sample_rate_hz},
-                              {"tick_samples", settings_.tick_samples},
-                              {"time_mode", settings_.virtual_time ? "virtual" : "realtime"}};
-    if (spec.role == Role::kTransceiver) welcome["phy"] = nlohmann::json::parse(spec.phy_json);
-    const std::string text = welcome.dump();
+    const std::string text = welcome_json(
+        {spec.id, settings_.sample_rate_hz, settings_.tick_samples, settings_.virtual_time,
+         spec.role == Role::kTransceiver ? spec.phy_json : std::string()});
     MsgHeader h;
     h.type = static_cast<std::uint16_t>(MsgType::kWelcome);
     if (!ch.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()})) return;
-    links_.at(spec.index)->offer(std::move(ch), program);
+    links_.at(spec.index)->offer(std::move(ch), std::move(hello.program));
   }
+
+  /// A connection that has not said hello yet, and when it must have.
+  struct Waiting {
+    MessageChannel channel;
+    Clock::time_point deadline;
+  };
 
   HubSettings settings_;
   std::map<NodeId, ExternalNodeSpec> specs_;
@@ -220,7 +294,9 @@ class Hub final : public ExternalHub {
   int wake_pipe_[2] = {-1, -1};
   std::atomic<bool> stopping_{false};
   std::atomic<std::uint64_t> rejected_{0};
-  RepeatLimiter refusal_log_;  // accept thread only (and the destructor after it)
+  RepeatLimiter refusal_log_;           // accept thread only (and the destructor after it)
+  std::vector<Waiting> waiting_;        // accept thread only; deadlines in accept order
+  Clock::time_point accept_resumes_{};  // accept thread only
   std::thread thread_;
 };
 

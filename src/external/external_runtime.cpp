@@ -24,6 +24,7 @@ ExternalRuntime::ExternalRuntime(const scenario::Scenario& s) : scenario_(s) {
   }
   HubSettings hs;
   hs.socket_path = external_socket_path(s);
+  // validate() bounds reply_timeout_s to (0, 3600], so the cast is defined.
   hs.reply_timeout_ms = static_cast<int>(std::ceil(s.external.reply_timeout_s * 1e3));
   hs.sample_rate_hz = s.timing.sample_rate_hz;
   hs.tick_samples = s.timing.tick_samples;
@@ -39,10 +40,11 @@ std::unique_ptr<ExternalRuntime> ExternalRuntime::create(const scenario::Scenari
 }
 
 engine::TransceiverFactory ExternalRuntime::transceiver_factory() const {
-  return [this](std::size_t index,
-                const scenario::PhyChoice& phy) -> std::unique_ptr<phy::Transceiver> {
+  return [this](std::size_t index, const scenario::PhyChoice& phy,
+                engine::NodeCounters& counters) -> std::unique_ptr<phy::Transceiver> {
     const auto link = hub_->link(index);
     if (!link) return phy::make_transceiver(phy.type, phy.settings);
+    link->count_stalls_in(counters.external_stalls);
     if (phy.external_program()) {
       return make_sample_port_transceiver(link, scenario_.timing.tick_samples);
     }

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "rfsitl/common/unix_socket_path.hpp"
+
 namespace rfsitl::external {
 
 MessageChannel::MessageChannel(int fd) : fd_(fd) {}
@@ -36,11 +38,10 @@ void MessageChannel::close() {
 }
 
 MessageChannel MessageChannel::connect_to(const std::string& path) {
-  sockaddr_un addr{};
-  if (path.size() >= sizeof addr.sun_path) {
-    throw std::runtime_error("socket path too long (max " +
-                             std::to_string(sizeof addr.sun_path - 1) + " bytes): " + path);
+  if (const std::string why = unix_socket_path_error(path); !why.empty()) {
+    throw std::runtime_error("emulator socket path '" + path + "' " + why);
   }
+  sockaddr_un addr{};
   const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
   if (fd < 0) throw std::runtime_error(std::string("socket(): ") + std::strerror(errno));
   addr.sun_family = AF_UNIX;

@@ -6,6 +6,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "rfsitl/common/log_text.hpp"
+
 namespace rfsitl::external {
 
 void NodeLink::offer(MessageChannel&& channel, std::string program) {
@@ -27,7 +29,7 @@ bool NodeLink::adopt() {
   offered_channel_.reset();
   program_ = std::move(offered_program_);
   joins_.fetch_add(1, std::memory_order_relaxed);
-  spdlog::info("node {}: external transceiver '{}' joined", id_, program_);
+  spdlog::info("node {}: external transceiver '{}' joined", id_, log_text(program_));
   return true;
 }
 
@@ -40,7 +42,7 @@ void NodeLink::count_drop(const std::string& why, bool replaced) {
   // Counted and logged before the peer can see the socket close, so that what
   // it observes is already in the books.
   drops_.fetch_add(1, std::memory_order_relaxed);
-  spdlog::warn("node {}: external transceiver '{}' dropped: {}{}", id_, program_, why,
+  spdlog::warn("node {}: external transceiver '{}' dropped: {}{}", id_, log_text(program_), why,
                replaced ? "" : "; the node is silent until it connects again");
   channel_.close();
 }
@@ -72,11 +74,14 @@ const Message* NodeLink::call(const MsgHeader& request, std::span<const cf32> sa
   switch (channel_.receive(reply_, reply_timeout_ms_)) {
     case RecvStatus::kOk:
       break;
-    case RecvStatus::kTimeout:
-      timeouts_.fetch_add(1, std::memory_order_relaxed);
+    case RecvStatus::kTimeout: {
+      const std::uint64_t stalls = timeouts_.fetch_add(1, std::memory_order_relaxed) + 1;
+      if (stall_counter_ != nullptr) stall_counter_->fetch_add(1, std::memory_order_relaxed);
       drop("no reply within " + std::to_string(reply_timeout_ms_) + " ms (tick " +
-           std::to_string(request.tick) + ")");
+           std::to_string(request.tick) + "): the engine stalled that long waiting for it (stall " +
+           std::to_string(stalls) + " of this node)");
       return nullptr;
+    }
     case RecvStatus::kClosed:
       drop("the process closed the connection");
       return nullptr;

@@ -10,9 +10,9 @@
 #include <thread>
 #include <vector>
 
+#include "rfsitl/common/retry_backoff.hpp"
 #include "rfsitl/external/external_client.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
-#include "rfsitl/external/retry_backoff.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::external {

@@ -14,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/log_text.hpp"
 #include "rfsitl/io/agent_control.hpp"
 #include "rfsitl/io/location_parser.hpp"
 #include "rfsitl/io/net_framing.hpp"
@@ -259,8 +260,9 @@ class LocationSession final : public PortSession {
     auto& errors = engine_.counters(node_).location_errors;
     engine::NodeCounters::bump(errors);
     if (should_log(errors.load())) {
+      // The reason quotes the line's own text.
       spdlog::warn("node {} location port {}: line {} rejected ({}); last good position kept", id_,
-                   port_, line_number_, reason);
+                   port_, line_number_, log_text(reason));
     }
   }
 

@@ -4,9 +4,11 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -16,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/log_text.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/json_text.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
@@ -126,9 +129,10 @@ class Server final : public Dashboard {
     v->send({std::make_shared<const std::string>(json_text(hello)), MessageKind::kEssential});
     // A new viewer needs the link matrix, which later snapshots carry only
     // when something moved.
-    v->send({std::make_shared<const std::string>(json_text(
-                 snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control))),
-             MessageKind::kSnapshot, true});
+    v->send(
+        {std::make_shared<const std::string>(json_text(snapshot_json(
+             scenario_, engine_, view_, sensitivity_, settings_.control, true, settings_.sources))),
+         MessageKind::kSnapshot, true});
   }
 
   /// A viewer's queue dropped `n` messages and has held up to `peak`.
@@ -152,8 +156,9 @@ class Server final : public Dashboard {
   }
 
   std::optional<std::size_t> node_index(const Json& id) const {
-    if (!id.is_number_unsigned() || id.get<unsigned>() > kMaxNodeId) return std::nullopt;
-    return engine_.index_of(static_cast<NodeId>(id.get<unsigned>()));
+    // Compared at full width: a narrowing cast first would let 2^32 + 2 reach node 2.
+    if (!id.is_number_unsigned() || id.get<std::uint64_t>() > kMaxNodeId) return std::nullopt;
+    return engine_.index_of(static_cast<NodeId>(id.get<std::uint64_t>()));
   }
 
   /// Moves a node as a location feed would, within the same limits; returns an
@@ -313,8 +318,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     auto req = parser_->release();
     http::status status{};
     if (const std::string why = server_.refusal(req, status); !why.empty()) {
-      spdlog::warn("dashboard: {} {} refused: {}", std::string(req.method_string()),
-                   std::string(req.target()), why);
+      // All three quote the client's request (the reason its Host or Origin).
+      spdlog::warn("dashboard: {} {} refused: {}", log_text(std::string(req.method_string())),
+                   log_text(std::string(req.target())), log_text(why));
       return respond(Server::error_response(req, status, why));
     }
     if (websocket::is_upgrade(req) && req.target() == "/ws") {
@@ -381,16 +387,17 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
       if (a.path == target) return reply(http::status::ok, a.content_type, std::string(a.body));
     }
     if (target == "/api/stats") {
-      return reply(http::status::ok, "application/json", json_text(stats_json(scenario_, engine_)));
+      return reply(http::status::ok, "application/json",
+                   json_text(stats_json(scenario_, engine_, settings_.sources)));
     }
     if (target == "/api/snapshot") {
-      return reply(
-          http::status::ok, "application/json",
-          json_text(snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control)));
+      return reply(http::status::ok, "application/json",
+                   json_text(snapshot_json(scenario_, engine_, view_, sensitivity_,
+                                           settings_.control, true, settings_.sources)));
     }
     if (target == "/metrics") {
       return reply(http::status::ok, "text/plain; version=0.0.4",
-                   prometheus_text(scenario_, engine_) + dashboard_metrics());
+                   prometheus_text(scenario_, engine_, settings_.sources) + dashboard_metrics());
     }
     return error(http::status::not_found, "no such page: " + target);
   }
@@ -401,14 +408,14 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
       target.ends_with(kSuffix)) {
     const std::string id_text =
         target.substr(kPrefix.size(), target.size() - kPrefix.size() - kSuffix.size());
-    unsigned id = 0;
-    try {
-      std::size_t used = 0;
-      id = static_cast<unsigned>(std::stoul(id_text, &used));
-      if (used != id_text.size()) throw std::invalid_argument(id_text);
-    } catch (const std::exception&) {
-      return error(http::status::bad_request, "bad node id '" + id_text + "'");
+    // Digits only (stoul would take " 2" and "-1"), parsed at full width.
+    std::uint64_t id = 0;
+    const auto [end, ec] = std::from_chars(id_text.data(), id_text.data() + id_text.size(), id);
+    if (id_text.empty() || ec == std::errc::invalid_argument ||
+        end != id_text.data() + id_text.size()) {
+      return error(http::status::bad_request, "bad node id '" + log_text(id_text) + "'");
     }
+    if (ec == std::errc::result_out_of_range) id = std::numeric_limits<std::uint64_t>::max();
     const auto index = node_index(Json(id));
     if (!index) return error(http::status::not_found, "no node " + id_text);
     const Json body = Json::parse(req.body(), nullptr, false);
@@ -434,8 +441,8 @@ void Server::push() {
   const bool moved = gains != last_gains_;
   last_gains_ = std::move(gains);
   const auto snapshot = [&](bool with_snr) {
-    return std::make_shared<const std::string>(json_text(
-        snapshot_json(scenario_, engine_, view_, sensitivity_, settings_.control, with_snr)));
+    return std::make_shared<const std::string>(json_text(snapshot_json(
+        scenario_, engine_, view_, sensitivity_, settings_.control, with_snr, settings_.sources)));
   };
   const auto latest = snapshot(moved);
   std::shared_ptr<const std::string> with_snr = moved ? latest : nullptr;

@@ -29,6 +29,7 @@
 #include "rfsitl/config/setting.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
+#include "rfsitl/registry/position_source_registry.hpp"
 #include "scenario_rules.hpp"
 
 namespace rfsitl::scenario {
@@ -270,8 +271,33 @@ void read_ports(Context& c, const Entry& at, PortConfig& p) {
   sec.finish();
 }
 
+// A list setting's items: each a mapping of the declared numeric fields, every
+// field checked as it is read, so that an error names the item, the field and
+// their own line (`points[1].t`), not the list's.
+config::Records read_records(Context& c, const Entry& list, const config::RecordShape& shape) {
+  config::Records items;
+  if (list.value.IsNull()) return items;  // `points:` with nothing: the count rule names it
+  for_each_item(c, list, [&](const Entry& item) {
+    Section sec(c, item);
+    config::Record r;
+    for (const config::RecordField& f : shape.fields) {
+      const Entry field = sec.take(f.name);
+      if (!field) {
+        if (f.required) c.fail(field.key, "required");
+        continue;
+      }
+      const double v = real(c, field);
+      if (const auto why = f.range.reject_reason(v)) c.fail(field.key, *why);
+      r.set(f.name, v);
+    }
+    sec.finish();
+    items.push_back(std::move(r));
+  });
+  return items;
+}
+
 // A value of a component's declared setting, with the declaration's type and limits.
-config::Value read_value(const Context& c, const Entry& e, const config::Setting& d) {
+config::Value read_value(Context& c, const Entry& e, const config::Setting& d) {
   config::Value v;
   switch (d.type) {
     case config::ValueType::kBool:
@@ -286,8 +312,11 @@ config::Value read_value(const Context& c, const Entry& e, const config::Setting
     case config::ValueType::kText:
       v = text(c, e);
       break;
+    case config::ValueType::kRecords:
+      v = read_records(c, e, d.items);
+      break;
   }
-  if (const auto why = d.reject_reason(v)) c.fail(e.key, *why);
+  if (const auto why = d.rejection(v)) c.fail(e.key + why->where, why->reason);
   return v;
 }
 
@@ -363,6 +392,31 @@ std::optional<MobilityChoice> read_mobility(Context& c, const Entry& at) {
   return m;
 }
 
+// `position: {source: mavlink, endpoint: ..., rate_hz: 10}`: a live source (or
+// location_port) and its declared settings. A node's may add `start: {x, y, z}`
+// (or lat/lon/alt), where the node is until its source first reports.
+PositionSourceChoice read_source(Context& c, const Entry& at, std::optional<Position>* start) {
+  Section sec(c, at);
+  const Entry type = sec.require("source");
+  PositionSourceChoice p{text(c, type), {}};
+  std::vector<std::string> names{PositionSourceChoice::kLocationPort};
+  std::vector<const config::ComponentInfo*> sources;
+  for (const auto& component : position::position_source_components()) {
+    names.push_back(component.info.name);
+    sources.push_back(&component.info);
+  }
+  c.check_name(p.type, type.key, names);
+  if (start != nullptr) *start = read_position(c, sec.take("start"));
+  if (p.is_location_port()) {
+    sec.finish();
+    return p;
+  }
+  const config::ComponentInfo& info = position::find_position_source(p.type)->info;
+  p.settings = info.defaults();
+  read_declared(c, sec, at, info, sources, p.settings);
+  return p;
+}
+
 void read_channel(Context& c, const Entry& at, ChannelConfig& ch) {
   Section sec(c, at);
   sec.get("model", ch.model);
@@ -420,7 +474,14 @@ NodeConfig read_node(Context& c, const Entry& at, const PhyChoice& scenario_phy)
   Section sec(c, at);
   NodeConfig n;
   n.id = node_id(c, sec, "id", kNodeIdLimit);
-  n.initial_position = read_position(c, sec.take("position"));
+  // `position:` is where the node starts, or (with `source:`) where its
+  // positions come from.
+  const Entry position = sec.take("position");
+  if (const YAML::Node v = position.value; position && v.IsMap() && v["source"]) {
+    n.source = read_source(c, position, &n.initial_position);
+  } else {
+    n.initial_position = read_position(c, position);
+  }
   n.mobility = read_mobility(c, sec.take("mobility"));
   if (const Entry phy = sec.take("phy")) {
     n.phy = scenario_phy;
@@ -464,6 +525,9 @@ Scenario read_scenario(Context& c, const YAML::Node& root) {
   Section sec(c, Entry{root, ""});
   Scenario s;
   read_settings(c, sec, s);
+  if (const Entry position = sec.take("position")) {
+    s.position_source = read_source(c, position, nullptr);
+  }
   const Entry nodes = sec.take("nodes");
   const Entry traffic = sec.take("traffic");
   sec.finish();  // a misspelt key (`nodez:`) is named before `nodes` is missed

@@ -73,11 +73,9 @@ constexpr IntLimit kRepeat{1, std::numeric_limits<unsigned>::max()};
 constexpr RealLimit kPositive{0, kInf, true};
 constexpr RealLimit kNonNegative{0, kInf};
 constexpr RealLimit kFinite{-kInf, kInf};
-// Positions: the limits every input shares (rfsitl/common/position_limits.hpp).
-constexpr RealLimit kLatitude{kLatitudeLimit.lo, kLatitudeLimit.hi};
-constexpr RealLimit kLongitude{kLongitudeLimit.lo, kLongitudeLimit.hi};
-constexpr RealLimit kAltitude{kAltitudeLimit.lo, kAltitudeLimit.hi};
 constexpr RealLimit kNoisePowerDb{-300, 300};  // keeps 10^(dB/10) a normal, non-zero double
+// Seconds; the hub waits in int milliseconds, which 1e30 s would overflow (undefined).
+constexpr RealLimit kReplyTimeout{0, 3600, true};
 
 constexpr std::array<std::string_view, 2> kTimeModes{"realtime", "virtual"};
 constexpr std::array<std::string_view, 1> kChannelModels{"paper"};
@@ -123,6 +121,11 @@ class Context {
   }
   void check(double v, const std::string& key, RealLimit lim) const {
     if (!lim.contains(v)) fail(key, lim.describe() + ", got " + fmt(v));
+  }
+  // Positions take the limits every input shares (rfsitl/common/position_limits.hpp)
+  // as they are, so that no copy here can drift from them.
+  void check(double v, const std::string& key, CoordinateLimit lim) const {
+    check(v, key, RealLimit{lim.lo, lim.hi});
   }
   template <typename Names>
   void check_name(const std::string& v, const std::string& key, const Names& names) const {

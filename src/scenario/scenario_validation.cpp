@@ -9,8 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "rfsitl/common/unix_socket_path.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
+#include "rfsitl/registry/position_source_registry.hpp"
 #include "scenario_rules.hpp"
 
 namespace rfsitl::scenario::detail {
@@ -18,14 +20,14 @@ namespace {
 
 void check_position(const Context& c, const Position& p, const std::string& key) {
   if (const auto* g = std::get_if<GeodeticPosition>(&p)) {
-    c.check(g->lat_deg, key + ".lat", kLatitude);
-    c.check(g->lon_deg, key + ".lon", kLongitude);
-    c.check(g->alt_m, key + ".alt", kAltitude);
+    c.check(g->lat_deg, key + ".lat", kLatitudeLimit);
+    c.check(g->lon_deg, key + ".lon", kLongitudeLimit);
+    c.check(g->alt_m, key + ".alt", kAltitudeLimit);
   } else {
     const auto& l = std::get<LocalPosition>(p);
-    c.check(l.x_m, key + ".x", kFinite);
-    c.check(l.y_m, key + ".y", kFinite);
-    c.check(l.z_m, key + ".z", kAltitude);
+    c.check(l.x_m, key + ".x", kHorizontalLimit);
+    c.check(l.y_m, key + ".y", kHorizontalLimit);
+    c.check(l.z_m, key + ".z", kAltitudeLimit);
   }
 }
 
@@ -112,6 +114,26 @@ void check_phy(const Context& c, const PhyChoice& p, const std::string& key) {
   }
 }
 
+// A live source must be registered, its settings valid, and (for one that
+// follows the wall clock) the run in real time.
+void check_source(const Context& c, const Scenario& s, const PositionSourceChoice& p,
+                  const std::string& key) {
+  if (p.is_location_port()) return;
+  const auto* component = position::find_position_source(p.type);
+  if (component == nullptr) c.fail(key + ".source", "unknown '" + p.type + "'");
+  try {
+    component->info.validate(p.settings);
+  } catch (const config::SettingError& e) {
+    c.fail(e.key().empty() ? key : key + "." + e.key(), e.what());
+  }
+  if (component->wall_clock && s.timing.mode == TimeMode::kVirtual) {
+    c.fail(key + ".source", p.type +
+                                " follows live vehicles on the wall clock, which virtual "
+                                "time cannot (use time.mode realtime; time.speed may match the "
+                                "simulator's speed-up)");
+  }
+}
+
 }  // namespace
 
 void validate(const Scenario& s, const Context& c) {
@@ -153,6 +175,17 @@ void validate(const Scenario& s, const Context& c) {
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (const auto& p = s.nodes[i].phy) check_phy(c, *p, "nodes[" + std::to_string(i) + "].phy");
   }
+  check_source(c, s, s.position_source, "position");
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const auto& own = s.nodes[i].source;
+    if (!own) continue;
+    const std::string key = "nodes[" + std::to_string(i) + "].position";
+    check_source(c, s, *own, key);
+    if (!own->is_location_port() && s.nodes[i].mobility) {
+      c.fail(key + ".source", "node " + std::to_string(s.nodes[i].id) +
+                                  " also has a mobility model; a node has one position source");
+    }
+  }
   c.check_name(s.channel.model, "channel.model", kChannelModels);
   c.check(s.channel.path_loss_exponent, "channel.path_loss_exponent", kNonNegative);
   c.check(s.channel.noise_variance, "channel.noise_variance", kNonNegative);
@@ -172,8 +205,15 @@ void validate(const Scenario& s, const Context& c) {
   c.check(s.engine.threads, "engine.threads", kThreads);
   c.check(s.engine.stats_interval_s, "engine.stats_interval_s", kNonNegative);
   c.check(s.engine.mobility_update_s, "engine.mobility_update_s", RealLimit{1e-6, 3600});
-  c.check(s.external.reply_timeout_s, "external.reply_timeout_s", kPositive);
+  c.check(s.external.reply_timeout_s, "external.reply_timeout_s", kReplyTimeout);
   c.check(s.external.start_timeout_s, "external.start_timeout_s", kNonNegative);
+  // Here rather than at bind(): a path too long for a socket address would fail
+  // only once the run starts, and without the file and line that set it.
+  if (const std::string& path = s.external.socket_path; !path.empty()) {
+    if (const std::string why = unix_socket_path_error(path); !why.empty()) {
+      c.fail("external.socket", "'" + path + "' " + why);
+    }
+  }
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (s.runs_externally(i)) {
       c.check(s.timing.tick_samples, "time.tick_samples", kExternalTickSamples);

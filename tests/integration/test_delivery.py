@@ -125,6 +125,19 @@ class DeliveryTest(unittest.TestCase):
         self.assertTrue(any("connection ended inside a frame (18 bytes" in line
                             for line in emu.output), emu.output)
 
+    def test_bad_location_line_reaches_the_log_escaped(self):
+        # The client's bytes are quoted in the log: shown, never acted on (here
+        # a terminal escape that would clear the screen).
+        with Emulator(NODES) as emu:
+            feed = emu.feed(2)
+            feed.sock.sendall(b"\x1b[2Jforged 1 2\n")
+            emu.wait_until(lambda st: node_of(st, 2)["location_errors"] == 1,
+                           what="the bad line to be counted")
+            emu.stop()
+        self.assertTrue(any("latitude '\\x1b[2Jforged' is not a number" in line
+                            for line in emu.output), emu.output)
+        self.assertFalse(any("\x1b" in line for line in emu.output), emu.output)
+
     def test_last_location_line_without_newline_is_used(self):
         with Emulator(NODES) as emu:
             feed = emu.feed(3)

@@ -37,13 +37,21 @@ class DescribeTest(unittest.TestCase):
         self.assertIn("| `rate_mbps` | integer | Mbit/s | `6` | 6, 9, 12, 18, 24, 36, 48, 54 |",
                       r.stdout)
 
+    def test_a_list_setting_prints_the_fields_of_its_items(self):
+        r = cli("describe", "mobility", "waypoints")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("| `points` | list |  | `[]` | 1..100000 items |", r.stdout)
+        items = r.stdout.split("Each item of `points`:\n\n", 1)[1]
+        self.assertIn("| `t` | s |  | >= 0 |", items)
+        self.assertIn("| `speed_mps` | m/s |  | (0, 10000] |", items)
+
     def test_unknown_kind_or_name_is_an_error_listing_the_known_ones(self):
         r = cli("describe", "phy", "lora")
         self.assertEqual(r.returncode, 2)
         self.assertRegex(r.stderr, r"no phy named 'lora' \(known: dsss, external, .*gmsk.*\)")
         r = cli("describe", "antenna")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("unknown kind 'antenna' (known: phy, mobility)", r.stderr)
+        self.assertIn("unknown kind 'antenna' (known: position, mobility, phy)", r.stderr)
 
     def test_scenario_readme_tables_are_the_generated_ones(self):
         with open(os.path.join(SOURCE_DIR, "scenarios", "README.md"), encoding="utf-8") as f:

@@ -133,6 +133,20 @@ class ErrorTest(unittest.TestCase):
         self.assertIn("bad.yaml:5", r.stderr)
         self.assertIn("phy.bandwidth_time", r.stderr)
 
+    def test_too_long_socket_path_names_file_line_and_key(self):
+        # Refused when the scenario loads, where its file and line are known,
+        # not later by bind() with a bare path.
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "long.yaml")
+            sock_path = "/tmp/" + "s" * 200 + ".sock"
+            with open(path, "w") as f:
+                f.write("nodes:\n  - {id: 1, phy: {type: external}}\n"
+                        f"external:\n  socket: {sock_path}\n")
+            r = self.run_cli("run", path)
+        self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+        self.assertIn(f"long.yaml:4: external.socket: '{sock_path}' is 210 bytes long; "
+                      "a Unix socket path holds at most 107", r.stderr)
+
     def test_unknown_flag_is_an_error_and_help_works(self):
         r = self.run_cli("run", "--no-such-flag")
         self.assertNotEqual(r.returncode, 0)

@@ -166,6 +166,9 @@ class SplitArchitectureTest(unittest.TestCase):
         self.assertEqual((n3["id"], n3["role"], n3["joins"], n3["timeouts"]), (3, "samples", 2, 1))
         node1 = next(n for n in summary["nodes"] if n["id"] == 1)
         self.assertEqual(node1["lost"]["collision"], 10)  # the ten sent while node 3 jammed
+        # The hang stalled the engine once, counted with the node's own counters.
+        node3 = next(n for n in summary["nodes"] if n["id"] == 3)
+        self.assertEqual((node1["external_stalls"], node3["external_stalls"]), (0, 1))
         assert_accounted(self, summary)
 
     @staticmethod

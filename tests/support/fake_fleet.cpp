@@ -11,7 +11,8 @@ FakeConfig& FakeFleet::config(std::size_t node) {
 engine::TransceiverFactory FakeFleet::factory() {
   radios_.clear();
   return [this, air = std::make_shared<FakeAir>()](std::size_t index,
-                                                   const scenario::PhyChoice& /*phy*/) {
+                                                   const scenario::PhyChoice& /*phy*/,
+                                                   engine::NodeCounters& /*counters*/) {
     const auto it = per_node_.find(index);
     auto radio =
         std::make_unique<FakeTransceiver>(it != per_node_.end() ? it->second : default_, air);

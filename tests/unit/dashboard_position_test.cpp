@@ -25,6 +25,18 @@ std::pair<http::status, std::string> post(const LiveDashboard& d, const std::str
   return {res.result(), j.is_object() && j.contains("error") ? j["error"].get<std::string>() : ""};
 }
 
+/// The error messages a viewer gets until the reply to its end mark (a message
+/// of type "end", answered "unknown message type").
+std::vector<std::string> errors_until_end(test::Viewer& v) {
+  std::vector<std::string> errors;
+  for (;;) {
+    const Json m = Json::parse(v.read());
+    if (m.at("type") != "error") continue;
+    if (m.at("message") == "unknown message type") return errors;
+    errors.push_back(m.at("message"));
+  }
+}
+
 TEST(DashboardPosition, PostRefusesWhatTheLocationPortRefusesAndAppliesTheRest) {
   DashboardSettings settings;
   settings.control = true;
@@ -34,7 +46,8 @@ TEST(DashboardPosition, PostRefusesWhatTheLocationPortRefusesAndAppliesTheRest) 
   for (const std::string body :
        {R"({"x": 0, "y": 0, "z": 500000})", R"({"x": 0, "y": 0, "z": -50000})",
         R"({"lat": 91, "lon": 0, "alt": 0})", R"({"lat": 10, "lon": -180.5})",
-        R"({"lat": 10, "lon": 10, "alt": 100001})"}) {
+        R"({"lat": 10, "lon": 10, "alt": 100001})", R"({"x": 1.7e308, "y": 0})",
+        R"({"x": 0, "y": -10000000.5, "z": 0})"}) {
     const auto [status, error] = post(d, body);
     EXPECT_EQ(status, http::status::bad_request) << body;
     const auto port = io::parse_location_line(body);
@@ -43,6 +56,8 @@ TEST(DashboardPosition, PostRefusesWhatTheLocationPortRefusesAndAppliesTheRest) 
   }
   EXPECT_EQ(post(d, R"({"x": 0, "y": 0, "z": 500000})").second,
             "bad position: z 500000 out of range [-1000, 100000]");
+  EXPECT_EQ(post(d, R"({"x": 1.7e308, "y": 0})").second,
+            "bad position: x 1.7e+308 out of range [-10000000, 10000000]");
   // Run a few ticks: node 1 stands where the one accepted request put it.
   const std::atomic<bool> stop{false};
   d.engine->run(stop);
@@ -91,13 +106,7 @@ TEST(DashboardPosition, WebSocketMoveAppliesTheSameLimits) {
   v.write(R"({"type": "move", "node": 2, "x": 0, "y": 0, "z": 500000})");
   v.write(R"({"type": "move", "node": 2, "x": "east", "y": 0})");
   v.write(R"({"type": "end", "node": 1})");  // answered "unknown message type": the end mark
-  std::vector<std::string> errors;
-  for (;;) {
-    const Json m = Json::parse(v.read());
-    if (m.at("type") != "error") continue;
-    if (m.at("message") == "unknown message type") break;
-    errors.push_back(m.at("message"));
-  }
+  const std::vector<std::string> errors = errors_until_end(v);
   EXPECT_EQ(errors, (std::vector<std::string>{"bad position: z 500000 out of range [-1000, 100000]",
                                               "bad position: x: expected a number"}));
 }
@@ -109,6 +118,36 @@ TEST(DashboardPosition, MissingHeightKeepsTheDefaultGiven) {
   const auto geo = read_position_request(Json{{"lat", 1}, {"lon", 2}, {"node", 3}}, 33.0, 44.0);
   ASSERT_TRUE(geo.position) << geo.error;
   EXPECT_EQ(std::get<GeodeticPosition>(*geo.position).alt_m, 44.0);
+}
+
+}  // namespace
+}  // namespace rfsitl::monitor
+
+namespace rfsitl::monitor {
+namespace {
+
+// Issue 15 W8: ids are compared at full width, so 2^32 + 1 is no node, not node 1.
+TEST(DashboardPosition, NodeIdsDoNotAliasModulo2To32) {
+  DashboardSettings settings;
+  settings.control = true;
+  LiveDashboard d(settings);
+  for (const std::string id : {"4294967297", "18446744073709551617", "-1", "%201", "1x", ""}) {
+    const auto res = test::request(d.port(), http::verb::post, "/api/nodes/" + id + "/position",
+                                   R"({"x": 5, "y": 6, "z": 7})");
+    EXPECT_NE(res.result(), http::status::ok) << "'" << id << "'";
+  }
+  test::Viewer v;
+  ASSERT_FALSE(v.connect(d.port()));
+  v.write(R"({"type": "move", "node": 4294967297, "x": 5, "y": 6, "z": 7})");
+  v.write(R"({"type": "end", "node": 1})");
+  const std::vector<std::string> errors = errors_until_end(v);
+  ASSERT_EQ(errors.size(), 1U);
+  // Node 1 never moved from its scenario position.
+  const std::atomic<bool> stop{false};
+  d.engine->run(stop);
+  const auto where = d.engine->positions().at(0);
+  ASSERT_TRUE(where.has_value());
+  EXPECT_GT(std::abs(channel::ecef_to_local(*where, d.s.channel.origin).x_m - 5.0), 0.5);
 }
 
 }  // namespace

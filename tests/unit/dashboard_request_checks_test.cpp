@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "dashboard_test_support.hpp"
+#include "log_capture.hpp"
 
 namespace rfsitl::monitor {
 namespace {
@@ -125,6 +126,21 @@ TEST(DashboardRequestChecks, ServerRefusesCrossSitePostsAndWebSockets) {
   // Another local web app's page (another port).
   refused({{http::field::origin, "http://localhost:8080"}}, http::status::forbidden);
   EXPECT_TRUE(test::wait_for([&] { return d.dashboard->viewers() == 0; }));
+}
+
+TEST(DashboardRequestChecks, RefusalsQuoteTheClientsHeaderEscapedInTheLog) {
+  LiveDashboard d;
+  ::rfsitl::testing::LogCapture log;
+  // HTTP allows any byte from 0x80 up in a header value; 0x9b alone is the
+  // 8-bit CSI that starts a terminal escape sequence.
+  const std::string origin = std::string("http://evil.example\x9b") + "2J";
+  const auto res =
+      request(d.port(), http::verb::get, "/api/stats", "", {{http::field::origin, origin}});
+  EXPECT_EQ(res.result(), http::status::forbidden) << res.body();
+  const auto lines = log.lines_with("dashboard: GET /api/stats refused");
+  ASSERT_EQ(lines.size(), 1U);
+  EXPECT_NE(lines[0].find("http://evil.example\\x9b2J"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines[0].find('\x9b'), std::string::npos) << lines[0];
 }
 
 }  // namespace

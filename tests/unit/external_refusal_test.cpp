@@ -2,7 +2,6 @@
 /// join: the emulator's log must stay readable while every refusal is still
 /// counted, the process must back off and must say why it is refused.
 #include <gtest/gtest.h>
-#include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -15,17 +14,19 @@
 #include <vector>
 
 #include "external_test_support.hpp"
+#include "log_capture.hpp"
+#include "rfsitl/common/retry_backoff.hpp"
 #include "rfsitl/external/external_client.hpp"
 #include "rfsitl/external/external_hub.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/external/repeat_limiter.hpp"
-#include "rfsitl/external/retry_backoff.hpp"
 #include "rfsitl/external/transceiver_node.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::external {
 namespace {
 
+using ::rfsitl::testing::LogCapture;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 using testing::JoiningThread;
@@ -121,48 +122,6 @@ TEST(ExternalRetryBackoff, DegenerateSettingsStillGivePositiveBoundedDelays) {
 }
 
 // --- the hub's log and the node process, end to end ------------------------------
-
-/// Collects what spdlog's default logger prints while it lives.
-class LogCapture {
- public:
-  LogCapture() : previous_(spdlog::default_logger()), sink_(std::make_shared<Sink>()) {
-    auto logger = std::make_shared<spdlog::logger>("capture", sink_);
-    logger->set_level(spdlog::level::trace);
-    spdlog::set_default_logger(logger);
-  }
-  ~LogCapture() { spdlog::set_default_logger(previous_); }
-  LogCapture(const LogCapture&) = delete;
-  LogCapture& operator=(const LogCapture&) = delete;
-
-  std::vector<std::string> lines_with(const std::string& part) const {
-    std::vector<std::string> out;
-    for (const auto& l : sink_->lines()) {
-      if (l.find(part) != std::string::npos) out.push_back(l);
-    }
-    return out;
-  }
-
- private:
-  class Sink final : public spdlog::sinks::base_sink<std::mutex> {
-   public:
-    std::vector<std::string> lines() {
-      std::lock_guard lock(mutex_);
-      return lines_;
-    }
-
-   protected:
-    void sink_it_(const spdlog::details::log_msg& msg) override {
-      lines_.emplace_back(msg.payload.begin(), msg.payload.end());
-    }
-    void flush_() override {}
-
-   private:
-    std::vector<std::string> lines_;
-  };
-
-  std::shared_ptr<spdlog::logger> previous_;
-  std::shared_ptr<Sink> sink_;
-};
 
 HubSettings hub_settings(const std::string& path) {
   HubSettings s;

@@ -173,6 +173,11 @@ TEST(LocationParser, JsonValuesAreRangeChecked) {
   EXPECT_EQ(error_of(R"({"lat": 91.5, "lon": 0})"), "latitude 91.5 out of range [-90, 90]");
   EXPECT_EQ(error_of(R"({"x": 0, "y": 0, "z": 200000})"), "z 200000 out of range [-1000, 100000]");
   EXPECT_EQ(error_of(R"({"x": 1e999, "y": 0})"), "JSON number out of range");
+  // Finite is not enough for local x, y: the tangent plane ends 10 000 km out.
+  EXPECT_EQ(error_of(R"({"x": 1.7e308, "y": 0})"), "x 1.7e+308 out of range [-10000000, 10000000]");
+  EXPECT_TRUE(parse_location_line(R"({"x": 0, "y": -1e7})").position.has_value());
+  EXPECT_EQ(error_of(R"({"x": 0, "y": -10000001})"),
+            "y -10000001 out of range [-10000000, 10000000]");
 }
 
 // ---- NMEA GGA --------------------------------------------------------------------------

@@ -107,7 +107,7 @@ TEST(MobilityCsvTrace, BadLinesAreSkippedCountedAndNamedByLine) {
             "bad.csv:7: t -1 out of range [0, 1000000000000]\n"
             "bad.csv:9: t 9 is before node 1's previous sample at t 10\n"
             "bad.csv:10: t 'nan' is not a finite number\n"
-            "bad.csv:11: x 1000000000 out of range [-100000000, 100000000]\n");
+            "bad.csv:11: x 1000000000 out of range [-10000000, 10000000]\n");
   // The good samples still make the track: the last good position stays in force.
   TraceReplayModel m = replay(r, 1);
   EXPECT_TRUE(near(m.state_at(5).position, {50, 0, 0}));
@@ -229,7 +229,7 @@ TEST(MobilityNs2Trace, BadLinesAreSkippedCountedAndNamedByLine) {
             "bad.tcl:5: t -2 out of range [0, 1000000000000]\n"
             "bad.tcl:6: the command after $ns_ at <time> must be in double quotes\n"
             "bad.tcl:7: speed '-3' is not a number >= 0\n"
-            "bad.tcl:8: y 2000000000 out of range [-100000000, 100000000]\n"
+            "bad.tcl:8: y 2000000000 out of range [-10000000, 10000000]\n"
             "bad.tcl:9: expected \"$node_(i) setdest <x> <y> <speed>\" or \"$node_(i) set X_ "
             "<metres>\"\n"
             "bad.tcl:10: unknown statement 'set': expected $node_(i) set, $ns_ at, or $god_\n"

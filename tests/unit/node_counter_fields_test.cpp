@@ -35,6 +35,7 @@ engine::NodeCountersSnapshot distinct_values() {
   c.location_updates = 14;
   c.location_errors = 15;
   c.queue_depth = 16;
+  c.external_stalls = 17;
   return c;
 }
 
@@ -58,6 +59,7 @@ const std::map<std::string, Expected>& expected_scalars() {
       {"location_updates", {"rfsitl_location_updates_total", 14}},
       {"location_errors", {"rfsitl_location_errors_total", 15}},
       {"queue_depth", {"rfsitl_tx_queue_depth", 16}},
+      {"external_stalls", {"rfsitl_external_stalls_total", 17}},
   };
   return m;
 }
@@ -142,10 +144,10 @@ TEST(NodeCounterFields, SummaryTableHasAColumnPerFieldInOrder) {
   const std::vector<std::string> want_titles = {
       "node",      "in",       "tx",      "delivered", "lost:sen", "lost:col", "lost:hd",
       "lost:dec",  "lost:dst", "q-drop",  "pending",   "received", "crc-fail", "to-agent-drop",
-      "frame-err", "loc-ok",   "loc-bad", "q-depth"};
+      "frame-err", "loc-ok",   "loc-bad", "q-depth",   "stalls"};
   EXPECT_EQ(titles, want_titles);
-  const std::vector<std::uint64_t> want_values = {7, 1000, 3,  4,  5,  6,  7,  8,  9,
-                                                  2, 959,  10, 11, 13, 12, 14, 15, 16};
+  const std::vector<std::uint64_t> want_values = {7,   1000, 3,  4,  5,  6,  7,  8,  9, 2,
+                                                  959, 10,   11, 13, 12, 14, 15, 16, 17};
   EXPECT_EQ(values, want_values);
   // Right-aligned under its title.
   EXPECT_EQ(lines[0].size(), lines[1].size());
@@ -159,7 +161,8 @@ TEST(NodeCounterFields, StatsJsonAndMetricsOfARunCarryEveryField) {
   const auto stats = stats_json(s, *e);
   const std::string metrics = prometheus_text(s, *e);
   for (const auto& n : stats.at("nodes")) {
-    std::set<std::string> keys = {"id", "phy"};
+    // Besides the counters: identity, and where the node is and what places it.
+    std::set<std::string> keys = {"id", "phy", "position", "source"};
     for (const auto& f : kNodeCounterFields) keys.insert(std::string(f.key));
     std::set<std::string> have;
     for (const auto& [key, value] : n.items()) have.insert(key);

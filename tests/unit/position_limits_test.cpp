@@ -28,15 +28,20 @@ TEST(PositionLimits, ErrorsNameTheFieldTheValueAndTheLimit) {
             "longitude 180.5 out of range [-180, 180]");
   EXPECT_EQ(position_error(GeodeticPosition{10, 10, 100001}),
             "altitude 100001 out of range [-1000, 100000]");
-  EXPECT_EQ(position_error(LocalPosition{1e12, -1e12, 0}), "");  // x, y: finite is enough
+  EXPECT_EQ(position_error(LocalPosition{1e7, -1e7, 0}), "");  // x, y: +-10 000 km, inclusive
+  EXPECT_EQ(position_error(LocalPosition{1.7e308, 0, 0}),
+            "x 1.7e+308 out of range [-10000000, 10000000]");
+  EXPECT_EQ(position_error(LocalPosition{0, -1e7 - 0.5, 0}),
+            "y -10000000.5 out of range [-10000000, 10000000]");
   EXPECT_EQ(position_error(LocalPosition{0, 0, 100000.5}),
             "z 100000.5 out of range [-1000, 100000]");
   EXPECT_EQ(position_error(GeodeticPosition{-90, -180, -1000}), "");
 }
 
 TEST(PositionLimits, TheLocationPortRefusesExactlyWhatTheLimitsRefuse) {
-  const double values[] = {-1e6, -100001, -1000.5, -1000, -181,  -180,   -90.5,    -90,
-                           0,    90,      90.5,    180,   180.5, 100000, 100000.5, 500000};
+  const double values[] = {-1.7e308, -1e7 - 0.5, -1e7,   -1e6, -100001,   -1000.5, -1000, -181,
+                           -180,     -90.5,      -90,    0,    90,        90.5,    180,   180.5,
+                           100000,   100000.5,   500000, 1e7,  1e7 + 0.5, 1.7e308};
   for (const double a : values) {
     for (const double b : values) {
       const std::string plain = format_coordinate(a) + " " + format_coordinate(b) + " 10";

@@ -256,7 +256,7 @@ TEST(ParseScenario, ErrorsNameKeyAndExactLine) {
        "t.yaml:3: traffic[0].src: node 1 is external: its own program serves its net port and "
        "sends its traffic"},
       {"nodes: [{id: 1}]\nexternal:\n  reply_timeout_s: 0\n",
-       "t.yaml:3: external.reply_timeout_s: must be > 0, got 0"},
+       "t.yaml:3: external.reply_timeout_s: must be in (0, 3600], got 0"},
   };
   for (const auto& [yaml, expected] : cases) EXPECT_EQ(error_of(yaml), expected) << yaml;
 }
@@ -334,8 +334,7 @@ TEST(ParseScenario, YamlSyntaxErrorReportsTheLine) {
 
 TEST(ValidateScenario, AcceptsAStructBuiltScenario) {
   Scenario s;
-  s.nodes = {{1, std::nullopt, std::nullopt, std::nullopt},
-             {2, LocalPosition{5, 0, 10}, std::nullopt, std::nullopt}};
+  s.nodes = {NodeConfig::at(1), NodeConfig::at(2, LocalPosition{5, 0, 10})};
   s.traffic = {TrafficItem{}};
   EXPECT_NO_THROW(validate_scenario(s));
 }
@@ -350,12 +349,11 @@ TEST(ParseScenario, UnknownPhyTypeListsTheRegisteredOnes) {
 TEST(ValidateScenario, ReportsWithSourceScenarioAndNoLine) {
   Scenario s;
   EXPECT_EQ(validation_error_of(s), "scenario: nodes: must list 1..254 nodes, got 0");
-  s.nodes = {{4, std::nullopt, std::nullopt, std::nullopt},
-             {4, std::nullopt, std::nullopt, std::nullopt}};
+  s.nodes = {NodeConfig::at(4), NodeConfig::at(4)};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[1].id: duplicate id 4 (also nodes[0].id)");
-  s.nodes = {{0, std::nullopt, std::nullopt, std::nullopt}};
+  s.nodes = {NodeConfig::at(0)};
   EXPECT_EQ(validation_error_of(s), "scenario: nodes[0].id: must be in 1..254, got 0");
-  s.nodes = {{1, std::nullopt, std::nullopt, std::nullopt}};
+  s.nodes = {NodeConfig::at(1)};
   s.phy.settings.set("bandwidth_time", 0.1);
   EXPECT_EQ(validation_error_of(s), "scenario: phy.bandwidth_time: must be in [0.2, 1], got 0.1");
   s.phy.settings.set("bandwidth_time", std::uint64_t{1});
@@ -553,7 +551,7 @@ TEST(ParseScenario, MobilityErrorsNameTheNodeKeyAndLine) {
             "t.yaml:5: nodes[0].mobility.radius_m: must be in (0, 1e+08], got 0");
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility: {type: levy_walk}\n"),
             "t.yaml:3: nodes[0].mobility.type: unknown 'levy_walk' (known: gauss_markov, orbit, "
-            "random_waypoint, trace)");
+            "random_waypoint, trace, waypoints)");
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility: {radius_m: 5}\n"),
             "t.yaml:3: nodes[0].mobility.type: required");
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility:\n      type: orbit\n      pause_s: 1\n"),

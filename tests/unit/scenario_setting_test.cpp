@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "rfsitl/common/position_limits.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 #include "scenario_errors.hpp"
 
@@ -109,6 +110,54 @@ TEST(ScenarioRules, TrafficBeyondTheSampleClockIsRefused) {
   EXPECT_NO_THROW(parse_scenario(
       "nodes: [{id: 1}, {id: 2}]\ntraffic:\n  - {src: 1, dst: 2, repeat: 2e7, interval_s: 1}\n",
       "t"));
+}
+
+TEST(ScenarioRules, PositionsHaveTheLimitsEveryOtherInputHas) {
+  // Accepted exactly when the shared limits (common/position_limits.hpp) accept:
+  // the scenario keeps no copy of them that could drift.
+  const double values[] = {-1.7e308, -1e7 - 0.5, -1e7,      -100001, -1000.5, -1000,
+                           -180.5,   -90,        0,         90.5,    180,     100000,
+                           100000.5, 1e7,        1e7 + 0.5, 1.7e308};
+  const auto accepted = [](const std::string& position) {
+    try {
+      parse_scenario("nodes:\n  - id: 1\n    position: " + position + "\n", "t.yaml");
+      return true;
+    } catch (const ScenarioError&) {
+      return false;
+    }
+  };
+  for (const double v : values) {
+    const std::string n = format_coordinate(v);
+    for (const auto& [text, p] :
+         {std::pair{"{x: " + n + ", y: 0}", Position{LocalPosition{v, 0, 0}}},
+          {"{x: 0, y: " + n + "}", Position{LocalPosition{0, v, 0}}},
+          {"{x: 0, y: 0, z: " + n + "}", Position{LocalPosition{0, 0, v}}},
+          {"{lat: " + n + ", lon: 0}", Position{GeodeticPosition{v, 0, 0}}},
+          {"{lat: 0, lon: " + n + "}", Position{GeodeticPosition{0, v, 0}}},
+          {"{lat: 0, lon: 0, alt: " + n + "}", Position{GeodeticPosition{0, 0, v}}}}) {
+      EXPECT_EQ(accepted(text), position_error(p).empty()) << text;
+    }
+  }
+  EXPECT_EQ(file_error("nodes:\n  - id: 1\n    position: {x: 1.7e308, y: 0}\n"),
+            "t.yaml:3: nodes[0].position.x: must be in [-1e+07, 1e+07], got 1.7e+308");
+}
+
+TEST(ScenarioRules, SocketPathTooLongForASocketNamesFileLineAndKey) {
+  const std::string fits = "/tmp/" + std::string(97, 's') + ".sock";  // 107 bytes
+  const std::string path = "/tmp/" + std::string(98, 's') + ".sock";  // 108 bytes
+  EXPECT_NO_THROW(parse_scenario("nodes: [{id: 1}]\nexternal:\n  socket: " + fits + "\n", "t"));
+  EXPECT_EQ(file_error("nodes: [{id: 1}]\nexternal:\n  socket: " + path + "\n"),
+            "t.yaml:3: external.socket: '" + path +
+                "' is 108 bytes long; a Unix socket path holds at most 107");
+  EXPECT_EQ(setting_error("external.socket", path, "--external-socket"),
+            "--external-socket: external.socket: '" + path +
+                "' is 108 bytes long; a Unix socket path holds at most 107");
+}
+
+TEST(ScenarioRules, ReplyTimeoutFitsTheHubsMilliseconds) {
+  EXPECT_EQ(file_error("nodes: [{id: 1}]\nexternal: {reply_timeout_s: 1e30}\n"),
+            "t.yaml:2: external.reply_timeout_s: must be in (0, 3600], got 1e+30");
+  EXPECT_NO_THROW(parse_scenario("nodes: [{id: 1}]\nexternal: {reply_timeout_s: 3600}\n", "t"));
 }
 
 TEST(ScenarioFile, EndlessFileIsRefusedWithoutReadingItAll) {

@@ -84,6 +84,7 @@ TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
       {"location_updates", "rfsitl_location_updates_total"},
       {"location_errors", "rfsitl_location_errors_total"},
       {"queue_depth", "rfsitl_tx_queue_depth"},
+      {"external_stalls", "rfsitl_external_stalls_total"},
   };
   for (const auto& n : stats.at("nodes")) {
     const std::string node = "node=\"" + std::to_string(n.at("id").get<unsigned>()) + "\"";
@@ -93,6 +94,21 @@ TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
         EXPECT_EQ(
             values.count("rfsitl_node_info{" + node + ",phy=\"" + value.get<std::string>() + "\"}"),
             1U);
+      } else if (key == "position" || key == "velocity" || key == "attitude") {
+        const std::map<std::string, std::string> family = {
+            {"position", "rfsitl_node_position{" + node + ",coord=\""},
+            {"velocity", "rfsitl_node_velocity_mps{" + node + ",axis=\""},
+            {"attitude", "rfsitl_node_attitude_rad{" + node + ",angle=\""}};
+        ASSERT_TRUE(value.is_object()) << key;  // the scenario places every node
+        for (const auto& [member, v] : value.items()) {
+          const std::string series = family.at(key) + member + "\"}";
+          ASSERT_EQ(values.count(series), 1U) << series;
+          EXPECT_EQ(values.at(series), v.get<double>()) << series;
+        }
+      } else if (key == "source") {
+        const std::string series = "rfsitl_node_source_info{" + node + ",type=\"" +
+                                   value.at("type").get<std::string>() + "\"}";
+        EXPECT_EQ(values.count(series), 1U) << series;
       } else if (key == "lost") {
         for (const auto& [reason, count] : value.items()) {
           const std::string series =
@@ -118,7 +134,8 @@ TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
            {"late_decodes", "rfsitl_late_decodes_total"},
            {"receiver_ticks_run", "rfsitl_receiver_ticks_total{state=\"run\"}"},
            {"receiver_ticks_skipped", "rfsitl_receiver_ticks_total{state=\"skipped\"}"},
-           {"receiver_ticks_blanked", "rfsitl_receiver_ticks_total{state=\"blanked\"}"}}) {
+           {"receiver_ticks_blanked", "rfsitl_receiver_ticks_total{state=\"blanked\"}"},
+           {"mobility_wall_s", "rfsitl_mobility_seconds_total"}}) {
     ASSERT_EQ(values.count(name), 1U) << name;
     if (key == "wall_s") continue;  // the clock moves between the two reads
     EXPECT_EQ(values.at(name), stats.at(key).get<double>()) << name;

@@ -1,6 +1,7 @@
 // Draws the map: grid, links (coloured and sized by SNR, dashed by how many
 // directions decode), the glow of links that carried or lost frames in the last
-// ACTIVE_MS, the nodes with their ids, and a scale bar.
+// ACTIVE_MS, the nodes with their ids and headings (faded when their position
+// source went silent), and a scale bar.
 //
 // Performance: at 64 nodes there are 2016 node pairs, so links are batched by
 // (style, colour, width) and a frame strokes a few dozen paths, not thousands.
@@ -17,6 +18,16 @@ import { ACTIVE_MS, state } from './state.js';
 const linkFilter = $('#link-filter');
 const mapInfo = $('#map-info');
 let fadeTimer = 0;
+
+// Where a node points, in radians clockwise from north (the screen's up): its
+// reported yaw, else the direction of its velocity when it moves (> 0.2 m/s);
+// null when neither is known.
+function headingOf(node) {
+  if (node.attitude) return node.attitude.yaw_rad;
+  const v = node.velocity;
+  if (v && Math.hypot(v.east_mps, v.north_mps) > 0.2) return Math.atan2(v.east_mps, v.north_mps);
+  return null;
+}
 
 function drawMap() {
   const ctx = mapSurface.begin();
@@ -190,10 +201,24 @@ function drawMap() {
     if (!known[i]) continue;
     const id = state.ids[i];
     const selected = id === state.selected;
+    const node = s.nodes[i];
+    // A node whose source went silent keeps its last position, drawn faded.
+    const stale = node.source?.stale === true;
+    const heading = headingOf(node);
+    if (heading !== null) {  // a tick from the centre out along the heading
+      ctx.beginPath();
+      ctx.moveTo(sx[i], sy[i]);
+      ctx.lineTo(sx[i] + Math.sin(heading) * (r + 8), sy[i] - Math.cos(heading) * (r + 8));
+      ctx.strokeStyle = stale ? '#6b7685' : '#e8edf4';
+      ctx.lineWidth = 2;
+      ctx.stroke();
+    }
     ctx.beginPath();
     ctx.arc(sx[i], sy[i], r, 0, 2 * Math.PI);
-    ctx.fillStyle = phyColour(s.nodes[i].phy);
+    ctx.globalAlpha = stale ? 0.4 : 1;
+    ctx.fillStyle = phyColour(node.phy);
     ctx.fill();
+    ctx.globalAlpha = 1;
     ctx.lineWidth = selected ? 3 : 1.5;
     ctx.strokeStyle = selected ? '#5cc8ff' : id === state.hover ? '#ffffff' : '#0b0f14';
     ctx.stroke();

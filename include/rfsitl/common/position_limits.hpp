@@ -1,11 +1,10 @@
 #pragma once
 /// The positions every input accepts: the location ports (io/location_parser),
-/// the dashboard's move requests and (through its own copy in
-/// src/scenario/scenario_rules.hpp, which must agree) scenario files. One place,
-/// so a position one input refuses is refused by all of them.
+/// the dashboard's move requests, scenario files (src/scenario/scenario_validation.cpp
+/// checks against these very constants), mobility traces and MAVLink vehicles.
+/// One place, so a position one input refuses is refused by all of them.
 #include <charconv>
 #include <cmath>
-#include <limits>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -25,9 +24,14 @@ inline constexpr CoordinateLimit kLatitudeLimit{-90.0, 90.0};     ///< degrees
 inline constexpr CoordinateLimit kLongitudeLimit{-180.0, 180.0};  ///< degrees
 /// Metres above the ellipsoid; also bounds local z (height above the origin).
 inline constexpr CoordinateLimit kAltitudeLimit{-1000.0, 100000.0};
-/// Local x and y (east, north) need only be finite.
-inline constexpr CoordinateLimit kHorizontalLimit{-std::numeric_limits<double>::max(),
-                                                  std::numeric_limits<double>::max()};
+/// Local x and y (east, north), metres from the origin: 10 000 km either way.
+/// Local positions lie on the origin's tangent plane (ENU), which leaves the
+/// Earth's surface as d^2 / 2R (R ~ 6371 km): 8 km up at 320 km, 7800 km up at
+/// 10 000 km, where no place a radio link is meant for lies any more (a
+/// far-away place is given as lat/lon instead). The bound also keeps distances,
+/// their squares in the path loss, and ECEF sums far from overflow (finite
+/// alone let 1.7e308 through).
+inline constexpr CoordinateLimit kHorizontalLimit{-1e7, 1e7};
 
 /// Shortest text that reads back as the same double, so messages quote a value
 /// exactly as it was understood ("91.5", not "91.500000"); plain notation for the

@@ -10,7 +10,8 @@
 ///     return f;
 ///   }
 ///
-/// The default is the struct's own member initializer. From this come the
+/// The default is the struct's own member initializer. A list setting's items
+/// are declared the same way (record_fields.hpp). From this come the
 /// declarations (ComponentInfo), and build() turns checked Settings into the struct.
 #include <concepts>
 #include <functional>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "rfsitl/config/component_info.hpp"
+#include "rfsitl/config/record_fields.hpp"
 
 namespace rfsitl::config {
 
@@ -94,6 +96,20 @@ class Fields {
       for (const auto& [word, e] : options) {
         if (word == std::get<std::string>(v)) t.*member = e;
       }
+    });
+  }
+
+  /// A list of records (waypoints, channel taps): `items` declares what each
+  /// holds, bound to the members of E; the list holds min_items..max_items.
+  /// The default is the member's initializer (usually empty).
+  template <typename E>
+  Fields& records(std::string name, std::vector<E> T::*member, const RecordFields<E>& items,
+                  std::size_t min_items, std::size_t max_items, std::string doc) {
+    Setting s = declare(std::move(name), ValueType::kRecords, items.records(defaults_.*member), "",
+                        std::move(doc));
+    s.items = items.shape(min_items, max_items);
+    return add(std::move(s), [member, items](T& t, const Value& v) {
+      t.*member = items.build(std::get<Records>(v));
     });
   }
 

@@ -28,7 +28,7 @@ class Settings {
   /// The value of `name`, or nullptr when it is not set.
   const Value* find(std::string_view name) const;
 
-  /// The value of `name` as T (bool, std::uint64_t, double or std::string).
+  /// The value of `name` as T (bool, std::uint64_t, double, std::string or Records).
   /// Throws std::logic_error when it is absent or of another type: a component
   /// reads only settings it declared, and they are always present.
   template <typename T>

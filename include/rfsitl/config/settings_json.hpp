@@ -7,12 +7,14 @@
 
 namespace rfsitl::config {
 
-/// {"name": value, ...} in declaration order.
+/// {"name": value, ...} in declaration order; a list setting is an array of
+/// objects, [{"t": 0, "x": 1}, ...].
 nlohmann::json to_json(const Settings& s);
 
 /// Reads `j` (an object) as settings of `component`: every declared key must be
 /// present and of its type (an integer is accepted for a real), no other key may
-/// be, and the values are validated. Throws SettingError.
+/// be, and the values are validated. Throws SettingError, whose key names a
+/// list's item and field ("points[1].t") when the fault is there.
 Settings settings_from_json(const ComponentInfo& component, const nlohmann::json& j);
 
 }  // namespace rfsitl::config

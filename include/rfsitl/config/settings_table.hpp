@@ -7,8 +7,10 @@
 
 namespace rfsitl::config {
 
-/// | setting | type | unit | default | allowed | meaning |, one row per setting.
-/// Every line ends in '\n'. A component without settings gives "(no settings)\n".
+/// | setting | type | unit | default | allowed | meaning |, one row per setting;
+/// then, for each list setting, a table of the fields its items may give
+/// (| field | unit | default | allowed | meaning |). Every line ends in '\n'.
+/// A component without settings gives "(no settings)\n".
 std::string settings_table(const ComponentInfo& component);
 
 }  // namespace rfsitl::config

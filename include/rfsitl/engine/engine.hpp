@@ -14,6 +14,7 @@
 #include "rfsitl/engine/engine_observer.hpp"
 #include "rfsitl/engine/node_counters.hpp"
 #include "rfsitl/phy/transceiver.hpp"
+#include "rfsitl/position/source/position_source.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::engine {
@@ -38,9 +39,12 @@ struct EngineStatus {
   std::uint64_t receiver_ticks_run = 0;  ///< receiver-ticks processed
   std::uint64_t receiver_ticks_skipped = 0;  ///< receiver-ticks skipped as silent
   std::uint64_t receiver_ticks_blanked = 0;  ///< receiver-ticks wholly blanked by own TX
+  double mobility_wall_s = 0.0;              ///< wall seconds spent evaluating mobility models
 };
 
-class Engine {
+/// Also the sink of the live position sources (position_source.hpp): a report
+/// moves its node at the next tick, like set_position().
+class Engine : public position::PositionSink {
  public:
   virtual ~Engine() = default;
 
@@ -58,8 +62,18 @@ class Engine {
   virtual std::size_t max_payload(std::size_t node) const = 0;
 
   /// Moves node `node` (nullopt: position unknown, no links). Thread-safe; takes
-  /// effect at the next tick.
+  /// effect at the next tick. Its velocity is then estimated from its successive
+  /// positions (position/source/velocity_estimator.hpp) on the engine's clock.
   virtual void set_position(std::size_t node, std::optional<Ecef> position) = 0;
+
+  /// A live source's report: the position (WGS84 or local, converted with the
+  /// scenario's origin) as set_position(); velocity and attitude as motions()
+  /// shows them. Thread-safe.
+  void report(std::size_t node, const position::StateReport& report) override = 0;
+
+  /// Thread-safe copy of every node's last reported velocity and attitude, by
+  /// index (a mobility model's velocity at its latest update).
+  virtual std::vector<position::NodeMotion> motions() const = 0;
 
   /// Adds an observer of frame events and samples (traces, recordings, the
   /// dashboard). Before run() only; the observer must outlive the engine's run.
@@ -87,9 +101,10 @@ class Engine {
 };
 
 /// Builds node `index`'s transceiver from its PHY settings (the split
-/// architecture substitutes proxies for transceivers in other processes).
+/// architecture substitutes proxies for transceivers in other processes, which
+/// count their stalls in `counters`; the counters outlive the transceiver).
 using TransceiverFactory = std::function<std::unique_ptr<phy::Transceiver>(
-    std::size_t index, const scenario::PhyChoice& phy)>;
+    std::size_t index, const scenario::PhyChoice& phy, NodeCounters& counters)>;
 
 /// Builds the engine for a validated scenario. Transceivers come from `factory`,
 /// or from the PHY registry when it is empty. Throws std::invalid_argument on

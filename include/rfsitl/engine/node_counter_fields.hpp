@@ -108,6 +108,10 @@ inline constexpr std::array kNodeCounterFields{
     NodeCounterField{"queue_depth", "rfsitl_tx_queue_depth", CounterKind::kGauge,
                      "Frames waiting in the TX queue.", "queue depth", "q-depth",
                      read_member<&NodeCountersSnapshot::queue_depth>},
+    NodeCounterField{"external_stalls", "rfsitl_external_stalls_total", CounterKind::kCounter,
+                     "Replies the node's external process owed but did not send within "
+                     "external.reply_timeout_s; the whole engine waited that long each time.",
+                     "ext. stalls", "stalls", read_member<&NodeCountersSnapshot::external_stalls>},
 };
 
 namespace detail {

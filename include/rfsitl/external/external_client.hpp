@@ -9,18 +9,10 @@
 #include <utility>
 
 #include "rfsitl/common/types.hpp"
+#include "rfsitl/external/handshake.hpp"
 #include "rfsitl/external/message_channel.hpp"
 
 namespace rfsitl::external {
-
-/// What the emulator tells a joining node.
-struct Welcome {
-  NodeId node_id = 0;
-  double sample_rate_hz = 0.0;
-  std::uint32_t tick_samples = 0;  ///< B
-  bool virtual_time = false;
-  std::string phy_json;  ///< transceiver role: the node's PHY settings as JSON; else empty
-};
 
 /// One tick as the samples role sees it.
 struct Tick {

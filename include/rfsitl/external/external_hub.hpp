@@ -31,6 +31,9 @@ struct ExternalNodeSpec {
 struct HubSettings {
   std::string socket_path;
   int reply_timeout_ms = 1000;
+  /// A connection must say hello within this, counted from its own accept:
+  /// hellos are awaited side by side, so silent connections never delay others.
+  int hello_timeout_ms = 2000;
   double sample_rate_hz = 1e6;
   std::uint32_t tick_samples = 250;
   bool virtual_time = false;
@@ -54,7 +57,11 @@ class ExternalHub {
 
 /// Binds `settings.socket_path` (a stale socket file left by a dead emulator is
 /// replaced; one that a live emulator answers on is not) with mode 0600 and
-/// starts the accept thread. Throws std::runtime_error naming the path.
+/// starts the accept thread, which also waits for the hellos of up to
+/// kMaxWaitingHellos connections at a time (beyond that, the one waiting
+/// longest is refused). Throws std::runtime_error naming the path.
+inline constexpr std::size_t kMaxWaitingHellos = 64;
+
 std::unique_ptr<ExternalHub> make_external_hub(const HubSettings& settings,
                                                const std::vector<ExternalNodeSpec>& nodes);
 

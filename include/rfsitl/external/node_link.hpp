@@ -6,7 +6,8 @@
 /// connection of the same node while the old one is still up drops the old
 /// connection, logs why and counts it (so joins() - drops() is 1 while a
 /// process is connected, else 0); the node is silent until its process
-/// connects again.
+/// connects again. A timeout is also a stall: the engine waits for the reply,
+/// so the whole emulation stands still for the reply timeout each time.
 #include <atomic>
 #include <cstdint>
 #include <mutex>
@@ -55,6 +56,12 @@ class NodeLink {
   /// Drops the connection (logged with `why`); the node may join again.
   void drop(const std::string& why);
 
+  /// Engine side, before the first round trip: also counts every timeout
+  /// (stall) in `counter` (the node's NodeCounters::external_stalls, so that
+  /// the summary, /api/stats, /metrics and the dashboard show it). `counter`
+  /// must outlive the engine's use of this link.
+  void count_stalls_in(std::atomic<std::uint64_t>& counter) { stall_counter_ = &counter; }
+
   // Any thread.
   std::uint64_t joins() const { return joins_.load(std::memory_order_relaxed); }
   std::uint64_t drops() const { return drops_.load(std::memory_order_relaxed); }
@@ -71,7 +78,8 @@ class NodeLink {
   MessageChannel channel_;  // engine side only
   Message reply_;
   std::string program_;
-  std::uint32_t watch_calls_ = 0;  // engine side only
+  std::uint32_t watch_calls_ = 0;                        // engine side only
+  std::atomic<std::uint64_t>* stall_counter_ = nullptr;  // engine side only
 
   std::mutex offer_mutex_;
   std::optional<MessageChannel> offered_channel_;

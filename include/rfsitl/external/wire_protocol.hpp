@@ -13,7 +13,9 @@
 /// emulator answers kWelcome (extra = JSON {"protocol": 1, "node_id": n,
 /// "sample_rate_hz": fs, "tick_samples": B, "time_mode": "realtime"|"virtual",
 /// "phy": {...} for the transceiver role}) or kReject (extra = reason, UTF-8)
-/// and closes.
+/// and closes. The hello is due within 2 s of connecting (each connection has
+/// its own deadline); both JSON texts are read by handshake.hpp, which refuses
+/// any number outside its field's range rather than converting it.
 ///
 /// Role "samples" (GNU Radio blocks, any program that owns its net port): each
 /// tick k the emulator sends kTick {tick = k, time = first sample of tick k,

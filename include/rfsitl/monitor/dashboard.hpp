@@ -34,6 +34,8 @@ struct DashboardSettings {
   bool fall_back_to_any_port = true;
   bool control = false;  ///< viewers may move nodes
   double push_interval_s = 0.25;
+  /// The live position sources' status per node (stats and snapshots show it).
+  position::SourceStatusFn sources;
 };
 
 class Dashboard {

@@ -15,20 +15,25 @@
 
 namespace rfsitl::monitor {
 
-/// Progress and every node's counters (the --summary-json document).
-nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e);
+/// Progress and every node's counters, position (local ENU metres from the
+/// scenario's origin and WGS84; null while unknown), velocity and attitude when
+/// reported, and its position source with that source's counters (the
+/// --summary-json document, /api/stats).
+nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e,
+                          const position::SourceStatusFn& sources = {});
 
-/// stats_json plus positions (local ENU metres and WGS84), the link matrix as
+/// stats_json plus the link matrix as
 /// SNR in dB (null: no link; left out when `with_snr` is false, for viewers
 /// that have it and nothing moved), each receiver's sensitivity, and the
 /// decoded and lost frames per link (the dashboard's snapshot message).
 nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, const LiveView& view,
                              const std::vector<double>& sensitivity_db, bool control,
-                             bool with_snr = true);
+                             bool with_snr = true, const position::SourceStatusFn& sources = {});
 
 /// Prometheus text exposition format 0.0.4: every number of stats_json, per
 /// node labelled {node="ID"}, each family with its HELP and TYPE lines.
-std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e);
+std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e,
+                            const position::SourceStatusFn& sources = {});
 
 /// A label value as the text format needs it inside double quotes: backslash,
 /// double quote and line feed become \\, \" and \n; everything else stays.

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "rfsitl/common/position.hpp"
@@ -79,6 +80,17 @@ struct MobilityChoice {
   bool operator==(const MobilityChoice&) const = default;
 };
 
+/// A node's live position source (registry/position_source_registry.hpp) and
+/// its declared settings, or kLocationPort: positions come only from the node's
+/// location port (and the dashboard).
+struct PositionSourceChoice {
+  static constexpr const char* kLocationPort = "location_port";
+  std::string type = kLocationPort;
+  config::Settings settings;
+  bool is_location_port() const { return type == kLocationPort; }
+  bool operator==(const PositionSourceChoice&) const = default;
+};
+
 struct NodeConfig {
   NodeId id = 1;
   /// Where the node starts; nullopt until its location feed reports (no links meanwhile).
@@ -87,6 +99,17 @@ struct NodeConfig {
   std::optional<PhyChoice> phy;
   /// How the node moves; nullopt: only its location feed (and the dashboard) move it.
   std::optional<MobilityChoice> mobility;
+  /// This node's live source, when it differs from the scenario's `position`.
+  std::optional<PositionSourceChoice> source;
+
+  /// Node `id` at `start` with everything else from the scenario (tests and
+  /// benchmarks build nodes this way, so a new member does not break them).
+  static NodeConfig at(NodeId id, std::optional<Position> start = std::nullopt) {
+    NodeConfig n;
+    n.id = id;
+    n.initial_position = std::move(start);
+    return n;
+  }
 };
 
 struct ChannelConfig {
@@ -152,9 +175,18 @@ struct Scenario {
   EngineConfig engine;
   ExternalConfig external;
   std::vector<TrafficItem> traffic;
+  /// The live source of every node without its own `source` or `mobility`.
+  PositionSourceChoice position_source;
 
   const PhyChoice& phy_of(std::size_t node) const {
     return nodes[node].phy ? *nodes[node].phy : phy;
+  }
+  /// Node `node`'s live source; a node with a mobility model has none (the
+  /// location port only).
+  PositionSourceChoice source_of(std::size_t node) const {
+    if (nodes[node].source) return *nodes[node].source;
+    if (nodes[node].mobility) return {};
+    return position_source;
   }
   /// True when node `node`'s transceiver is another process.
   bool runs_externally(std::size_t node) const { return phy_of(node).runs_externally(); }

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <chrono>
 
-namespace rfsitl::external {
+namespace rfsitl {
 
 class RetryBackoff {
  public:
@@ -33,4 +33,4 @@ class RetryBackoff {
   Duration next_;
 };
 
-}  // namespace rfsitl::external
+}  // namespace rfsitl

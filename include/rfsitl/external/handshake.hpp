@@ -1,0 +1,56 @@
+#pragma once
+/// The handshake's JSON (wire_protocol.hpp): the hello a node's process sends
+/// and the welcome the emulator answers, each written by one side and read by
+/// the other. A reader trusts nothing it did not write: every number is
+/// checked as a double against its range before it becomes an integer, so a
+/// node_id of 4294967298 is refused instead of wrapping to node 2, and 1e30
+/// never reaches a float-to-integer conversion (undefined behaviour).
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "rfsitl/common/types.hpp"
+
+namespace rfsitl::external {
+
+/// A hello or welcome that does not read. The message names the field and the
+/// value as it was sent: "node_id 4294967298 out of range 1..254",
+/// "tick_samples: expected an integer, got 2.5", "role: missing".
+class HandshakeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// What a process says when it connects.
+struct Hello {
+  NodeId node_id = 0;
+  std::string role;                  ///< "samples" or "transceiver" (the hub checks it)
+  std::string program = "external";  ///< for the emulator's log: client text, escape to print
+};
+
+/// What the emulator tells a joining node.
+struct Welcome {
+  NodeId node_id = 0;
+  double sample_rate_hz = 0.0;
+  std::uint32_t tick_samples = 0;  ///< B
+  bool virtual_time = false;
+  std::string phy_json;  ///< transceiver role: the node's PHY settings as JSON; else empty
+};
+
+std::string hello_json(const Hello& hello);
+
+/// Reads a hello: node_id an integer in 1..254, role a string, program a string
+/// if present. Throws HandshakeError.
+Hello read_hello(const std::string& text);
+
+/// The welcome with protocol kProtocolVersion; `phy_json` (if not empty) must
+/// be a JSON object.
+std::string welcome_json(const Welcome& welcome);
+
+/// Reads a welcome: protocol kProtocolVersion, node_id in 1..254,
+/// sample_rate_hz finite and > 0, tick_samples in 1..kMaxExternalTickSamples,
+/// time_mode "realtime" or "virtual", phy an object if present. Throws
+/// HandshakeError.
+Welcome read_welcome(const std::string& text);
+
+}  // namespace rfsitl::external
