@@ -548,7 +548,7 @@ TEST(ParseScenario, NodeMobilityIsReadWithItsModelsSettings) {
 
 TEST(ParseScenario, MobilityErrorsNameTheNodeKeyAndLine) {
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility:\n      type: orbit\n      radius_m: 0\n"),
-            "t.yaml:5: nodes[0].mobility.radius_m: must be in (0, 1e+08], got 0");
+            "t.yaml:5: nodes[0].mobility.radius_m: must be in (0, 1e+07], got 0");
   EXPECT_EQ(error_of("nodes:\n  - id: 1\n    mobility: {type: levy_walk}\n"),
             "t.yaml:3: nodes[0].mobility.type: unknown 'levy_walk' (known: gauss_markov, orbit, "
             "random_waypoint, trace, waypoints)");

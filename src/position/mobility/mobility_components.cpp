@@ -54,20 +54,23 @@ std::uint64_t node_seed(std::uint64_t seed, const MobilityContext& c) {
   return splitmix64(state);
 }
 
-constexpr config::Range kAnyMetres{-1e8, 1e8};
+// The limits every input of positions accepts (common/position_limits.hpp).
+constexpr config::Range kEastNorth{kHorizontalLimit.lo, kHorizontalLimit.hi};
+constexpr config::Range kHeight{kAltitudeLimit.lo, kAltitudeLimit.hi};
 
 const config::Fields<OrbitSettings>& orbit_fields() {
   using S = OrbitSettings;
-  static const auto f = config::Fields<S>()
-                            .real("centre_x_m", &S::centre_x_m, "m", kAnyMetres, "centre, east")
-                            .real("centre_y_m", &S::centre_y_m, "m", kAnyMetres, "centre, north")
-                            .real("radius_m", &S::radius_m, "m", {0, 1e8, true}, "radius")
-                            .real("speed_mps", &S::speed_mps, "m/s", {-1e4, 1e4},
-                                  "ground speed; positive counter-clockwise seen from above")
-                            .real("altitude_m", &S::altitude_m, "m", kAnyMetres, "local z")
-                            .real("phase_rad", &S::phase_rad, "rad", {-1e3, 1e3},
-                                  "angle at t = 0, counter-clockwise from east of the centre")
-                            .rule(checked<S>);
+  static const auto f =
+      config::Fields<S>()
+          .real("centre_x_m", &S::centre_x_m, "m", kEastNorth, "centre, east")
+          .real("centre_y_m", &S::centre_y_m, "m", kEastNorth, "centre, north")
+          .real("radius_m", &S::radius_m, "m", {0, kHorizontalLimit.hi, true}, "radius")
+          .real("speed_mps", &S::speed_mps, "m/s", {-1e4, 1e4},
+                "ground speed; positive counter-clockwise seen from above")
+          .real("altitude_m", &S::altitude_m, "m", kHeight, "local z")
+          .real("phase_rad", &S::phase_rad, "rad", {-1e3, 1e3},
+                "angle at t = 0, counter-clockwise from east of the centre")
+          .rule(checked<S>);
   return f;
 }
 
@@ -92,12 +95,12 @@ config::Fields<S> with_box() {
   // The box's members belong to the base; as members of S they bind to S's fields.
   const auto m = [](double BoxFields::*member) { return static_cast<double S::*>(member); };
   return config::Fields<S>()
-      .real("x_min_m", m(&BoxFields::x_min_m), "m", kAnyMetres, "box: least east")
-      .real("x_max_m", m(&BoxFields::x_max_m), "m", kAnyMetres, "box: most east")
-      .real("y_min_m", m(&BoxFields::y_min_m), "m", kAnyMetres, "box: least north")
-      .real("y_max_m", m(&BoxFields::y_max_m), "m", kAnyMetres, "box: most north")
-      .real("z_min_m", m(&BoxFields::z_min_m), "m", kAnyMetres, "box: lowest")
-      .real("z_max_m", m(&BoxFields::z_max_m), "m", kAnyMetres, "box: highest")
+      .real("x_min_m", m(&BoxFields::x_min_m), "m", kEastNorth, "box: least east")
+      .real("x_max_m", m(&BoxFields::x_max_m), "m", kEastNorth, "box: most east")
+      .real("y_min_m", m(&BoxFields::y_min_m), "m", kEastNorth, "box: least north")
+      .real("y_max_m", m(&BoxFields::y_max_m), "m", kEastNorth, "box: most north")
+      .real("z_min_m", m(&BoxFields::z_min_m), "m", kHeight, "box: lowest")
+      .real("z_max_m", m(&BoxFields::z_max_m), "m", kHeight, "box: highest")
       .integer("seed", static_cast<std::uint64_t S::*>(&BoxFields::seed), "", 0, UINT64_MAX,
                "0: the scenario seed mixed with the node id");
 }
@@ -213,15 +216,12 @@ struct WaypointItem {
 const config::RecordFields<WaypointItem>& waypoint_item_fields() {
   using P = WaypointItem;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  // The limits every position input shares (common/position_limits.hpp).
-  constexpr config::Range kHorizontal{kHorizontalLimit.lo, kHorizontalLimit.hi};
-  constexpr config::Range kHeight{kAltitudeLimit.lo, kAltitudeLimit.hi};
   static const auto f =
       config::RecordFields<P>()
           .real("t", &P::t, "s", {0, kInf},
                 "arrival time (virtual); the first point's is 0 if left out")
-          .real("x", &P::x, "m", kHorizontal, "east of channel.origin")
-          .real("y", &P::y, "m", kHorizontal, "north of channel.origin")
+          .real("x", &P::x, "m", kEastNorth, "east of channel.origin")
+          .real("y", &P::y, "m", kEastNorth, "north of channel.origin")
           .real("z", &P::z, "m", kHeight, "up from channel.origin; 0 if left out")
           .real("lat", &P::lat, "deg", {kLatitudeLimit.lo, kLatitudeLimit.hi}, "WGS84 latitude")
           .real("lon", &P::lon, "deg", {kLongitudeLimit.lo, kLongitudeLimit.hi}, "WGS84 longitude")
