@@ -296,15 +296,10 @@ class LockStepEngine final : public Engine {
     const double now_s = static_cast<double>(now_) / scenario_.timing.sample_rate_hz;
     if (inbox_.apply(now_s, channel_)) geometry_stale_ = true;
     // After the feeds: a modelled node follows its model again at each update.
-    const auto t0 = std::chrono::steady_clock::now();
-    const bool moved =
-        mobility_.update(now_, channel_, [this](std::size_t node, const position::Velocity& v) {
+    if (mobility_.update(now_, channel_, [this](std::size_t node, const position::Velocity& v) {
           inbox_.set_motion(node, {v, std::nullopt});
-        });
-    if (moved) {
+        })) {
       geometry_stale_ = true;
-      mobility_wall_s_ +=
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     if (geometry_stale_ && now_ >= next_geometry_copy_) publish_geometry();
   }
@@ -532,7 +527,7 @@ class LockStepEngine final : public Engine {
     wr(status_.max_lag_s, clock_.max_lag_s());
     wr(status_.late_ticks, clock_.late_ticks());
     wr(status_.late_decodes, ledger_->late_decodes());
-    wr(status_.mobility_wall_s, mobility_wall_s_);
+    wr(status_.mobility_wall_s, mobility_.wall_s());
     wr(status_.receiver_ticks_run, run_ticks_);
     wr(status_.receiver_ticks_skipped, skipped_ticks_);
     wr(status_.receiver_ticks_blanked, blanked_ticks_);
@@ -576,7 +571,6 @@ class LockStepEngine final : public Engine {
   static constexpr double kGeometryCopyPeriodS = 0.02;
 
   NodeStateInbox inbox_;
-  double mobility_wall_s_ = 0.0;  // engine thread only
 
   struct AtomicStatus {
     std::atomic<SampleTime> virtual_samples{0};

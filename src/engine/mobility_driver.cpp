@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -45,6 +46,7 @@ bool MobilityDriver::update(
     SampleTime now, channel::ChannelMatrix& channel,
     const std::function<void(std::size_t, const position::Velocity&)>& velocity) {
   if (moving_.empty() || now < next_) return false;
+  const auto t0 = std::chrono::steady_clock::now();
   const double t_s = static_cast<double>(now) / sample_rate_hz_;
   for (const Moving& m : moving_) {
     const position::mobility::MotionState state = m.model->state_at(t_s);
@@ -52,6 +54,7 @@ bool MobilityDriver::update(
     velocity(m.index, state.velocity);
   }
   next_ = now + interval_;
+  wall_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return true;
 }
 

@@ -21,6 +21,10 @@ class MobilityDriver {
 
   bool empty() const { return moving_.empty(); }
 
+  /// Wall seconds spent in the updates that moved nodes (the clock is read
+  /// only then, not every tick).
+  double wall_s() const { return wall_s_; }
+
   /// At the first tick at or after each update time: sets every modelled node's
   /// position for the virtual time `now` (samples), and tells `velocity` each
   /// one's velocity. Returns true when it did. A node's position thus lags its
@@ -37,6 +41,7 @@ class MobilityDriver {
   double sample_rate_hz_;
   SampleTime interval_;
   SampleTime next_ = 0;
+  double wall_s_ = 0.0;
   std::vector<Moving> moving_;
 };
 
