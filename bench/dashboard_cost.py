@@ -16,19 +16,20 @@ Standard library only, loopback only, bounded in time.
 """
 
 import argparse
-import base64
 import csv
 import json
 import os
 import random
 import re
 import signal
-import socket
-import struct
 import subprocess
 import sys
 import threading
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests",
+                                "integration"))
+from ws_client import WsClient  # noqa: E402 (after the path)
 
 TICKS = os.sysconf("SC_CLK_TCK")
 
@@ -52,50 +53,19 @@ class Viewer(threading.Thread):
 
     def __init__(self, port, node):
         super().__init__(daemon=True)
-        self.sock = socket.create_connection(("127.0.0.1", port), timeout=5)
-        key = base64.b64encode(os.urandom(16)).decode()
-        self.sock.sendall((f"GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n"
-                           f"Connection: Upgrade\r\nSec-WebSocket-Key: {key}\r\n"
-                           "Sec-WebSocket-Version: 13\r\n\r\n").encode())
-        head = b""
-        while b"\r\n\r\n" not in head:
-            head += self.sock.recv(1)
-        if b" 101 " not in head.split(b"\r\n")[0]:
-            raise RuntimeError("WebSocket upgrade refused: " + head.decode(errors="replace"))
-        self.send(json.dumps({"type": "watch", "node": node}))
+        self.ws = WsClient("127.0.0.1", port, timeout=5)
+        self.ws.send({"type": "watch", "node": node})
         self.bytes = 0
         self.messages = 0
         self.stop = False
 
-    def send(self, text):
-        data = text.encode()
-        mask = os.urandom(4)
-        masked = bytes(b ^ mask[i % 4] for i, b in enumerate(data))
-        assert len(data) < 126
-        self.sock.sendall(bytes([0x81, 0x80 | len(data)]) + mask + masked)
-
-    def _read(self, n):
-        out = b""
-        while len(out) < n:
-            chunk = self.sock.recv(n - len(out))
-            if not chunk:
-                raise ConnectionError
-            out += chunk
-        return out
-
     def run(self):
-        self.sock.settimeout(2)
+        self.ws.sock.settimeout(2)
         try:
             while not self.stop:
-                b0, b1 = self._read(2)
-                n = b1 & 0x7F
-                if n == 126:
-                    n = struct.unpack(">H", self._read(2))[0]
-                elif n == 127:
-                    n = struct.unpack(">Q", self._read(8))[0]
-                self._read(n)
-                self.bytes += n
-                self.messages += 1 if b0 & 0x80 else 0  # FIN: a message's last frame
+                _, fin, payload = self.ws.read_frame()
+                self.bytes += len(payload)
+                self.messages += 1 if fin else 0  # FIN: a message's last frame
         except (OSError, ConnectionError):
             pass
 

@@ -8,6 +8,10 @@
 /// accumulators (no memory traffic), one per instruction set the CPU has
 /// (SSE mul+add, AVX2 FMA, AVX-512 FMA), counted in flops and converted to
 /// complex-MAC equivalents: 1 complex MAC = 4 real mul + 4 real add = 8 flops.
+///
+/// Noise: the receivers' Gaussian noise (channel::NoiseSource, counter-based),
+/// samples per second added to B-sample blocks, the other half of a receiver's
+/// channel work per tick.
 #include <immintrin.h>
 
 #include <CLI/CLI.hpp>
@@ -20,6 +24,7 @@
 #include <vector>
 
 #include "rfsitl/channel/mixer.hpp"
+#include "rfsitl/channel/noise_source.hpp"
 
 namespace {
 
@@ -114,6 +119,20 @@ double measure_peak(Loop loop, double seconds, float* sink) {
   return median(rates);
 }
 
+/// Units per second of `call` (which runs the work `calls` times and returns
+/// the seconds it took, `units` per run): the call count is calibrated to last
+/// about `seconds`, then the median of kRepeats timed runs.
+template <typename Call>
+double median_rate(const Call& call, double units, double seconds) {
+  long calls = 16;
+  while (call(calls) < 0.02) calls *= 4;
+  calls = std::max<long>(1, static_cast<long>(static_cast<double>(calls) * seconds / call(calls)));
+  std::vector<double> rates;
+  for (int r = 0; r < kRepeats; ++r)
+    rates.push_back(static_cast<double>(calls) * units / call(calls));
+  return median(rates);
+}
+
 /// Median complex MAC/s of channel::mix with n inputs of b samples each.
 double measure_mix(std::size_t n, std::size_t b, double seconds, float* sink) {
   std::mt19937 rng(static_cast<std::uint32_t>(n * 1000 + b));
@@ -136,14 +155,23 @@ double measure_mix(std::size_t n, std::size_t b, double seconds, float* sink) {
     }
     return elapsed_s(t0);
   };
-  long calls = 16;
-  while (call(calls) < 0.02) calls *= 4;
-  calls = std::max<long>(1, static_cast<long>(static_cast<double>(calls) * seconds / call(calls)));
-  std::vector<double> rates;
-  for (int r = 0; r < kRepeats; ++r) {
-    rates.push_back(static_cast<double>(calls) * static_cast<double>(n * b) / call(calls));
-  }
-  return median(rates);
+  return median_rate(call, static_cast<double>(n * b), seconds);
+}
+
+/// Noise samples per second added by NoiseSource::add_to to `b`-sample blocks.
+double measure_noise(std::size_t b, double seconds, float* sink) {
+  const channel::NoiseSource noise(1, 0, 1.0F);
+  std::vector<cf32> out(b);
+  std::uint64_t t = 0;
+  const auto call = [&](long calls) {
+    const auto t0 = Clock::now();
+    for (long c = 0; c < calls; ++c, t += b) {
+      noise.add_to(out, t);
+      *sink += out[static_cast<std::size_t>(c) % b].real();
+    }
+    return elapsed_s(t0);
+  };
+  return median_rate(call, static_cast<double>(b), seconds);
 }
 
 }  // namespace
@@ -181,12 +209,12 @@ int main(int argc, char** argv) {
   const double peak_cmacs = best->flops / kFlopsPerComplexMac;
 
   std::ofstream out(csv);
-  out << "kind,name,n_inputs,block,cmac_per_s,gflops,fraction_of_peak\n";
+  out << "kind,name,n_inputs,block,cmac_per_s,gflops,fraction_of_peak,samples_per_s\n";
   for (const auto& p : peaks) {
     std::printf("peak %-11s %8.2f Gflop/s = %7.3f G complex-MAC/s\n", p.isa.c_str(), p.flops / 1e9,
                 p.flops / kFlopsPerComplexMac / 1e9);
     out << "peak," << p.isa << ",,," << p.flops / kFlopsPerComplexMac << "," << p.flops / 1e9 << ","
-        << p.flops / best->flops << "\n";
+        << p.flops / best->flops << ",\n";
   }
   for (const std::size_t b : blocks) {
     for (const std::size_t n : ns) {
@@ -194,8 +222,13 @@ int main(int argc, char** argv) {
       std::printf("mix N=%3zu B=%4zu %7.3f G complex-MAC/s = %5.1f%% of peak (%s)\n", n, b, r / 1e9,
                   100.0 * r / peak_cmacs, best->isa.c_str());
       out << "mix,channel::mix," << n << "," << b << "," << r << ","
-          << r * kFlopsPerComplexMac / 1e9 << "," << r / peak_cmacs << "\n";
+          << r * kFlopsPerComplexMac / 1e9 << "," << r / peak_cmacs << ",\n";
     }
+  }
+  for (const std::size_t b : blocks) {
+    const double r = measure_noise(b, seconds, &sink);
+    std::printf("noise B=%4zu %7.2f M samples/s = %5.1f ns/sample\n", b, r / 1e6, 1e9 / r);
+    out << "noise,channel::NoiseSource,," << b << ",,,," << r << "\n";
   }
   std::printf("mix_bench: wrote %s (checksum %g)\n", csv.c_str(), static_cast<double>(sink));
   return 0;

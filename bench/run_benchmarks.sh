@@ -6,7 +6,7 @@
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity virtual mobility mix dashboard" by default; any subset):
+# Stages (STAGES="fig4 fig5 capacity virtual mobility mix dashboard overload" by default; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
@@ -19,10 +19,14 @@
 #   mix       channel::mix complex MAC/s beside the CPU's measured peak
 #   dashboard CPU, peak memory and lag of a DASH_NODES-node run with the dashboard off,
 #             on, and with 1 and 4 WebSocket viewers (bench/dashboard_cost.py)
+#   overload  64 nodes flooding frames for OVL_SECONDS with 500 idle connections and 4 slow
+#             or silent dashboard viewers: peak memory against a ceiling computed from the
+#             queue bounds, and the books of every frame (bench/overload.py; fails the
+#             stage, not the run, when the ceiling or the books do not hold)
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
-#   MIX_SECONDS=0.2  PORT_BASE=20000
+#   MIX_SECONDS=0.2  OVL_SECONDS=60  PORT_BASE=20000
 #   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)
 # Every emulator binds 127.0.0.1, gets its own port range (PORT_BASE + 1000 k) and is
 # always stopped (SIGINT, then SIGKILL after 30 s), also when this script fails.
@@ -33,10 +37,10 @@ T_START=$(date +%s)
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
   D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
-  D_DASH_S=5 D_MOB_S=10,5
+  D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15
 else
   D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAP_S=60
-  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10
+  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60
 fi
 OUT="${OUT:-out/bench}"
 COUNT="${COUNT:-$D_COUNT}"
@@ -49,9 +53,10 @@ MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
 MOB_NODES="${MOB_NODES:-64}"
 MOB_SECONDS="${MOB_SECONDS:-$D_MOB_S}"  # virtual seconds at 10 ms, at 1 ms
 PORT_BASE="${PORT_BASE:-20000}"
-STAGES="${STAGES-fig4 fig5 capacity virtual mobility mix dashboard}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity virtual mobility mix dashboard overload}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
+OVL_SECONDS="${OVL_SECONDS:-$D_OVL_S}"
 # Architectures of the Fig. 4 CDF. Each name A needs a function fig4_start_A LOG JSON
 # that starts that architecture's emulator with 6 nodes via start_emulator (below) or
 # its own launcher that sets EMU_PID and NET_BASE the same way:
@@ -270,6 +275,17 @@ if stage dashboard; then
   "$PY" bench/dashboard_cost.py --bin "$BIN" --port-base "$PORT_BASE" --nodes "$DASH_NODES" --seconds "$DASH_SECONDS" \
     --viewers 1 4 --csv "$OUT/dashboard_cost.csv"
   mark dashboard
+fi
+
+if stage overload; then
+  echo "== Bounded under overload: 64 flooding nodes, 500 idle connections, 4 slow viewers," \
+    "$OVL_SECONDS s"
+  rm -f "$OUT/overload.csv"
+  "$PY" bench/overload.py --bin "$BIN" --duration "$OVL_SECONDS" --net-base $((PORT_BASE + 3)) \
+    --loc-base $((PORT_BASE + 6)) --dashboard-port $((PORT_BASE + 1)) \
+    --csv "$OUT/overload.csv" --log "$OUT/overload_emulator.log" ||
+    echo "bench: overload: the ceiling or the books did not hold (see above)"
+  mark overload
 fi
 
 # --- report -----------------------------------------------------------------------

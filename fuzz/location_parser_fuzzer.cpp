@@ -17,11 +17,11 @@
 #include <variant>
 
 #include "fuzz_check.hpp"
-#include "rfsitl/io/location_parser.hpp"
+#include "rfsitl/position/location_port/location_line.hpp"
 
 using rfsitl::GeodeticPosition;
 using rfsitl::LocalPosition;
-using rfsitl::io::LocationParseResult;
+using rfsitl::position::LocationParseResult;
 
 namespace {
 
@@ -45,7 +45,7 @@ bool same(const LocationParseResult& a, const LocationParseResult& b) {
 }
 
 void check_line(std::string_view line) {
-  const LocationParseResult r = rfsitl::io::parse_location_line(line);
+  const LocationParseResult r = rfsitl::position::parse_location_line(line);
   const int outcomes = (r.position ? 1 : 0) + (r.error.empty() ? 0 : 1) + (r.blank ? 1 : 0);
   FUZZ_CHECK(outcomes == 1, "%d outcomes (position %d, error '%s', blank %d)", outcomes,
              r.position.has_value(), r.error.c_str(), r.blank);
@@ -68,7 +68,7 @@ void check_line(std::string_view line) {
       FUZZ_CHECK(l.z_m >= -1000.0 && l.z_m <= 100000.0, "local z %.17g out of range", l.z_m);
     }
   }
-  FUZZ_CHECK(same(r, rfsitl::io::parse_location_line(line)), "not deterministic");
+  FUZZ_CHECK(same(r, rfsitl::position::parse_location_line(line)), "not deterministic");
 }
 
 }  // namespace

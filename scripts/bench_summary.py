@@ -209,6 +209,11 @@ def mix_table(out):
             lines.append(f"| {r['n_inputs']} | {r['block']} | "
                          f"{fmt(bc.num(r['cmac_per_s']) / 1e9, 3)} | "
                          f"{fmt(100 * bc.num(r['fraction_of_peak']), 1)}% |")
+    noise = [r for r in rows if r["kind"] == "noise" and r.get("samples_per_s")]
+    if noise:
+        lines += ["", "Receiver noise (counter-based Gaussian, one thread): " + ", ".join(
+            f"B = {r['block']}: {fmt(bc.num(r['samples_per_s']) / 1e6, 1)} M samples/s "
+            f"({fmt(1e9 / bc.num(r['samples_per_s']), 1)} ns/sample)" for r in noise) + "."]
     return lines
 
 
@@ -227,6 +232,27 @@ def dashboard_table(out):
                      f"{fmt(bc.num(r['ws_messages_per_s_per_viewer']), 1)} | "
                      f"{fmt(bc.num(r['worst_lag_ms']), 1)} |")
     return lines
+
+
+def overload_lines(out):
+    rows = bc.read_rows(os.path.join(out, "overload.csv"))
+    if not rows:
+        return []
+    r = rows[0]
+    lost = ", ".join(f"{k[5:].replace('_', ' ')} {r[k]}" for k in r if k.startswith("lost_"))
+    return [f"{r['nodes']} nodes each offering {r['rate_per_node']} frames/s of "
+            f"{r['payload_bytes']} bytes for {r['duration_s']} s, {r['idle_connections']} idle "
+            f"connections, {r['viewers']} viewers (half never read)"
+            f"{' (ASan build)' if r.get('asan') == '1' else ''}.", "",
+            "| baseline RSS | at 10 s | at the end | peak | ceiling (baseline +) | held |",
+            "|---|---|---|---|---|---|",
+            f"| {r['baseline_rss_mb']} MB | {r['rss_10s_mb']} MB | {r['rss_end_mb']} MB | "
+            f"{r['peak_rss_mb']} MB | {r['ceiling_mb']} MB | "
+            f"{met(r['passed'] == '1')} |", "",
+            f"Frames: offered {r['offered']}, handed in {r['handed_in']}, delivered "
+            f"{r['delivered']}, lost {r['lost']} ({lost}), queue-dropped {r['queue_dropped']}, "
+            f"to-agent dropped {r['to_agent_dropped']}; worst real-time lag "
+            f"{fmt(bc.num(r['worst_lag_ms']), 0)} ms."]
 
 
 def main():
@@ -281,6 +307,12 @@ def main():
                  "WebSocket clients that watch a node (spectrum and constellation) and read "
                  "every snapshot.\n")
         p += dashboard_table(out) + [""]
+    if overload_lines(out):
+        p.append("## Bounded under overload (`overload.csv`; bench/overload.py)\n")
+        p.append("Peak RSS of the emulator against a ceiling computed from its queue bounds "
+                 "(the terms and their formulas are in the stage's output); held = peak <= "
+                 "baseline + ceiling and every frame's books balance.\n")
+        p += overload_lines(out) + [""]
     if fig5_table(out):
         p.append("## RTT against N (Fig. 5 analogue; `fig5_rtt_vs_n.csv`, `.png`)\n")
         p += fig5_table(out) + [""]

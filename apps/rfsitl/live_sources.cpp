@@ -5,23 +5,40 @@
 
 namespace rfsitl::app {
 
-LiveSources::LiveSources(const scenario::Scenario& s) : type_of_(s.nodes.size()) {
+namespace {
+constexpr const char* kLocationPort = scenario::PositionSourceChoice::kLocationPort;
+}
+
+LiveSources::LiveSources(const scenario::Scenario& s, const position::SourceContext& context)
+    : type_of_(s.nodes.size()) {
   std::map<std::string, std::vector<position::SourceNode>> nodes_of;
+  const auto* location_port = position::find_position_source(kLocationPort);
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const scenario::PositionSourceChoice choice = s.source_of(i);
-    if (choice.is_location_port()) continue;
-    type_of_[i] = choice.type;
-    nodes_of[choice.type].push_back({i, s.nodes[i].id, choice.settings});
+    type_of_[i] = s.nodes[i].mobility ? "mobility" : choice.type;
+    // Every node's location port listens; with its own settings where the node
+    // chose it.
+    nodes_of[kLocationPort].push_back(
+        {i, s.nodes[i].id,
+         choice.type == kLocationPort ? choice.settings : location_port->info.defaults()});
+    if (choice.type != kLocationPort) {
+      nodes_of[choice.type].push_back({i, s.nodes[i].id, choice.settings});
+    }
   }
   for (const auto& [type, nodes] : nodes_of) {
     const auto* component = position::find_position_source(type);
     if (component == nullptr) throw std::invalid_argument("unknown position source " + type);
-    sources_.emplace(type, component->make(nodes));
+    sources_.emplace(type, component->make(context, nodes));
   }
 }
 
 void LiveSources::start(position::PositionSink& sink) {
-  for (auto& [type, source] : sources_) source->start(sink);
+  try {
+    for (auto& [type, source] : sources_) source->start(sink);
+  } catch (...) {
+    stop();
+    throw;
+  }
 }
 
 void LiveSources::stop() {
@@ -29,11 +46,22 @@ void LiveSources::stop() {
 }
 
 std::optional<position::SourceStatus> LiveSources::status(std::size_t index) const {
-  if (index >= type_of_.size() || type_of_[index].empty()) return std::nullopt;
-  const auto& source = sources_.at(type_of_[index]);
-  const auto counters = source->counters(index);
-  if (!counters) return std::nullopt;
-  return position::SourceStatus{type_of_[index], source->where(index), *counters};
+  if (index >= type_of_.size()) return std::nullopt;
+  const std::string& type = type_of_[index];
+  const auto& port = *sources_.at(kLocationPort);
+  if (type == kLocationPort) {
+    return position::SourceStatus{type, port.where(index), *port.counters(index), std::nullopt};
+  }
+  position::SourceStatus st{type, "", {}, port.counters(index)};
+  if (const auto it = sources_.find(type); it != sources_.end()) {
+    st.where = it->second->where(index);
+    st.counters = it->second->counters(index).value_or(position::SourceCounters{});
+  }
+  return st;
+}
+
+std::string LiveSources::location_port(std::size_t index) const {
+  return sources_.at(kLocationPort)->where(index);
 }
 
 void follow_mavlink(scenario::Scenario& s, const std::string& endpoint) {

@@ -1,7 +1,8 @@
 #pragma once
 /// The run's live position sources (position/source/position_source.hpp): one
 /// source object per registered type that some node uses, each feeding its
-/// nodes into the engine.
+/// nodes into the engine. The location port listens for every node: it is the
+/// default source, and an override for nodes that follow another.
 #include <map>
 #include <memory>
 #include <string>
@@ -16,28 +17,30 @@ class LiveSources {
  public:
   /// Builds the sources of a validated scenario. Throws std::invalid_argument
   /// naming the node whose settings cannot work (e.g. two nodes on one port).
-  explicit LiveSources(const scenario::Scenario& s);
+  LiveSources(const scenario::Scenario& s, const position::SourceContext& context);
   ~LiveSources() { stop(); }
   LiveSources(const LiveSources&) = delete;
   LiveSources& operator=(const LiveSources&) = delete;
 
-  bool empty() const { return sources_.empty(); }
-
   /// Starts every source reporting into `sink`. Throws std::runtime_error
-  /// naming the node and endpoint that cannot be opened.
+  /// (io::PortError for a port in use) naming the node and endpoint that cannot
+  /// be opened; the sources started before it are stopped again.
   void start(position::PositionSink& sink);
   /// Stops every source (idempotent); the sink hears nothing afterwards.
   void stop();
 
-  /// Node `index`'s source status (nullopt: no live source). Thread-safe.
+  /// Node `index`'s source status: its live source, or "mobility" (with the
+  /// location port's overrides). Thread-safe.
   std::optional<position::SourceStatus> status(std::size_t index) const;
+  /// Where node `index`'s location port listens ("127.0.0.1:15776").
+  std::string location_port(std::size_t index) const;
   /// status() as the monitor takes it; valid while this object lives.
   position::SourceStatusFn status_fn() const {
     return [this](std::size_t index) { return status(index); };
   }
 
  private:
-  std::vector<std::string> type_of_;  // per node: its live source's type, "" for none
+  std::vector<std::string> type_of_;  // per node: its source's type, or "mobility"
   std::map<std::string, std::unique_ptr<position::PositionSource>> sources_;
 };
 

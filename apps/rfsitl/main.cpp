@@ -1,10 +1,16 @@
 /// rfsitl: software-in-the-loop RF channel emulator for UAV swarms.
+#include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
+  // spdlog's default logger is created here, before any thread starts. It is a
+  // function-local static inside the library, whose guard ThreadSanitizer
+  // cannot see: a thread meeting it after another thread created it would look
+  // unordered after that creation (scripts/test_tsan.sh).
+  spdlog::default_logger_raw();
   CLI::App app{
       "rfsitl: software-in-the-loop RF channel emulator for UAV swarms and other multi-robot "
       "systems"};

@@ -22,10 +22,11 @@
 
 #include "commands.hpp"
 #include "live_sources.hpp"
+#include "rfsitl/agent_port/net_ports.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/external/external_runtime.hpp"
 #include "rfsitl/io/bind_address.hpp"
-#include "rfsitl/io/node_servers.hpp"
+#include "rfsitl/monitor/control_token.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/json_text.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
@@ -105,6 +106,8 @@ struct RunOptions {
   std::optional<std::uint16_t> dashboard_port;
   bool no_dashboard = false;
   bool dashboard_control = false;
+  std::optional<std::string> dashboard_token;       ///< --dashboard-token
+  std::optional<std::string> dashboard_token_file;  ///< --dashboard-token-file
   bool no_skip = false;
   bool shared_noise = false;
   std::string summary_json;
@@ -162,7 +165,7 @@ std::string format_position(const std::optional<Position>& p) {
   return buf;
 }
 
-void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc,
+void print_banner(const scenario::Scenario& s, const agent_port::NetPortsConfig& sc,
                   const LiveSources& sources) {
   const double tick_ms = 1e3 * s.timing.tick_samples / s.timing.sample_rate_hz;
   std::printf(
@@ -176,11 +179,14 @@ void print_banner(const scenario::Scenario& s, const io::ServerConfig& sc,
     const bool own_net = !s.phy_of(i).external_program();
     std::string where = n.mobility ? "moves: mobility " + n.mobility->type
                                    : "start " + format_position(n.initial_position);
-    if (const auto live = sources.status(i)) where += ", follows " + live->type + " " + live->where;
-    std::printf("  node %3u: %-26s net %s:%u%s  location %s:%u  %s\n", n.id,
+    if (const auto live = sources.status(i);
+        live && live->type != "mobility" && live->type != "location_port") {
+      where += ", follows " + live->type + " " + live->where;
+    }
+    std::printf("  node %3u: %-26s net %s:%u%s  location %s  %s\n", n.id,
                 s.phy_of(i).label().c_str(), sc.bind_address.c_str(),
-                io::NodeServers::net_port(sc, n.id), own_net ? "" : " (its program's)",
-                sc.bind_address.c_str(), io::NodeServers::loc_port(sc, n.id), where.c_str());
+                agent_port::NetPorts::net_port(sc, n.id), own_net ? "" : " (its program's)",
+                sources.location_port(i).c_str(), where.c_str());
   }
 }
 
@@ -261,6 +267,36 @@ bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenari
   }
 }
 
+/// The dashboard's control token: the user's (flag or file), or one drawn at
+/// random when control is on and the dashboard is reachable beyond this
+/// machine; "" when none is needed. Sets `drawn` when it was drawn here.
+/// Throws std::runtime_error naming the flag when the user's is unusable.
+std::string dashboard_control_token(const RunOptions& o, const std::string& bind_address,
+                                    bool& drawn) {
+  drawn = false;
+  std::string token;
+  std::string flag;
+  if (o.dashboard_token) {
+    token = *o.dashboard_token;
+    flag = "--dashboard-token";
+  } else if (o.dashboard_token_file) {
+    flag = "--dashboard-token-file " + *o.dashboard_token_file;
+    std::ifstream in(*o.dashboard_token_file);
+    if (!in) throw std::runtime_error(flag + ": cannot read: " + std::strerror(errno));
+    std::getline(in, token);  // the first line; an editor's newline is not part of it
+    while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
+  }
+  if (!flag.empty()) {
+    if (const std::string why = monitor::control_token_problem(token); !why.empty()) {
+      throw std::runtime_error(flag + ": the token " + why);
+    }
+    return token;
+  }
+  if (!o.dashboard_control || o.no_dashboard || monitor::bind_is_loopback(bind_address)) return "";
+  drawn = true;
+  return monitor::generate_control_token();
+}
+
 int run(const RunOptions& o) {
   scenario::Scenario s;
   try {
@@ -276,6 +312,16 @@ int run(const RunOptions& o) {
     std::fprintf(stderr, "rfsitl run: ports.bind: %s\n", e.what());
     return 2;
   }
+  // The token too: a token file that cannot be used fails before the ports open.
+  bool token_drawn = false;
+  std::string control_token;
+  try {
+    control_token = dashboard_control_token(o, bind_address, token_drawn);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    return 2;
+  }
+  const bool token_needed = !control_token.empty();
   // Output files are opened now: a path that cannot be written fails before
   // the run, not after it with the results lost.
   std::ofstream summary_out;
@@ -295,11 +341,11 @@ int run(const RunOptions& o) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  io::ServerConfig sc{bind_address, s.ports.net_base, s.ports.loc_base, s.channel.origin, {}};
+  agent_port::NetPortsConfig sc{bind_address, s.ports.net_base, {}};
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (s.phy_of(i).external_program()) sc.external_net_ports.push_back(s.nodes[i].id);
   }
-  auto servers = io::make_node_servers(sc);
+  auto servers = agent_port::make_net_ports(sc);
   std::unique_ptr<external::ExternalRuntime> external;
   std::unique_ptr<engine::Engine> engine;
   // Observers of the engine: destroyed before it.
@@ -309,6 +355,7 @@ int run(const RunOptions& o) {
   // between the two so that they are destroyed in that order.
   std::unique_ptr<LiveSources> sources;
   std::unique_ptr<monitor::Dashboard> dashboard;
+  std::string drawn_token_url;
   try {
     external = external::ExternalRuntime::create(s);
     engine = engine::make_engine(
@@ -332,8 +379,8 @@ int run(const RunOptions& o) {
       sigmf = monitor::make_sigmf_recorder(ss, s);
       engine->add_observer(*sigmf);
     }
-    servers->start(*engine);
-    sources = std::make_unique<LiveSources>(s);
+    sources =
+        std::make_unique<LiveSources>(s, position::SourceContext{bind_address, s.ports.loc_base});
     sources->start(*engine);
     if (!o.no_dashboard) {
       monitor::DashboardSettings ds;
@@ -341,18 +388,42 @@ int run(const RunOptions& o) {
       ds.port = o.dashboard_port.value_or(ds.port);
       ds.fall_back_to_any_port = !o.dashboard_port;
       ds.control = o.dashboard_control;
+      ds.control_token = control_token;
       ds.sources = sources->status_fn();
       dashboard = monitor::start_dashboard(ds, s, *engine);
+      if (token_drawn) drawn_token_url = dashboard->url() + "?token=" + control_token;
     }
+    // Last: a frame an agent hands in reaches every observer (the traces, the
+    // dashboard's live view) from the net ports' thread, so all of them are
+    // added before the ports open (add_observer is not thread-safe).
+    servers->start(*engine);
     if (external) external->start_children();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    // Nothing ran: leave no empty summary or trace behind to be mistaken for a
+    // run's results.
+    if (summary_out.is_open()) {
+      summary_out.close();
+      std::remove(o.summary_json.c_str());
+    }
+    if (pcap) std::remove(o.pcap_path.c_str());  // unlinked; the object closes it later
     return 2;
   }
   print_banner(s, sc, *sources);
   if (dashboard) {
-    std::printf("rfsitl: dashboard %s (moving nodes %s)\n", dashboard->url().c_str(),
-                o.dashboard_control ? "allowed" : "off; --dashboard-control allows it");
+    const char* control = !o.dashboard_control ? "off; --dashboard-control allows it"
+                          : !token_needed      ? "allowed"
+                          : token_drawn        ? "only with the control token of the URL below"
+                                               : "only with the control token you gave";
+    std::printf("rfsitl: dashboard %s (moving nodes %s)\n", dashboard->url().c_str(), control);
+    if (token_drawn) {
+      // Printed once: the dashboard is reachable beyond this machine, so the
+      // token is what keeps others on the network from moving nodes.
+      std::printf(
+          "rfsitl: dashboard control URL (its token, drawn for this run, lets whoever has it move "
+          "nodes; viewing needs none): %s\n",
+          drawn_token_url.c_str());
+    }
     std::fflush(stdout);
   }
   if (external && !wait_for_external_nodes(*external, s, signals)) {
@@ -401,14 +472,28 @@ int run(const RunOptions& o) {
   if (sigmf) sigmf->finish();
   if (pcap) {
     pcap->flush();
-    std::printf("rfsitl: pcap trace %s: %llu frame events\n", o.pcap_path.c_str(),
-                static_cast<unsigned long long>(pcap->events_written()));
+    const nlohmann::json trace = pcap->summary();
+    const std::string stopped =
+        trace["stopped"].get<bool>() ? "; stopped early: " + trace["error"].get<std::string>() : "";
+    std::printf("rfsitl: pcap trace %s: %llu frame events%s\n", o.pcap_path.c_str(),
+                static_cast<unsigned long long>(pcap->events_written()), stopped.c_str());
+  }
+  if (sigmf) {
+    const nlohmann::json recording = sigmf->summary();
+    for (const auto& n : recording["nodes"]) {
+      if (n["stopped"].get<bool>()) {
+        std::printf("rfsitl: SigMF recording %s stopped early: %s\n",
+                    n["data"].get<std::string>().c_str(), n["error"].get<std::string>().c_str());
+      }
+    }
   }
   print_summary(*engine);
   if (external) print_external_summary(*external);
   if (summary_out.is_open()) {
     nlohmann::json j = monitor::stats_json(s, *engine, sources->status_fn());
     if (external) j["external"] = external->summary();
+    if (pcap) j["pcap"] = pcap->summary();
+    if (sigmf) j["sigmf"] = sigmf->summary();
     summary_out << monitor::json_text(j, 2) << "\n";
     summary_out.flush();
     if (!summary_out) {
@@ -470,8 +555,18 @@ std::function<int()> add_run_command(CLI::App& parent) {
                   "+STEP: node n uses PORT + STEP (n - 1); e.g. tcp:127.0.0.1:5762+10 follows "
                   "ArduPilot SITL instances 0, 1, 2 ...");
   cmd->add_flag("--no-dashboard", opts->no_dashboard, "Do not serve the web dashboard");
-  cmd->add_flag("--dashboard-control", opts->dashboard_control,
-                "Let dashboard viewers move nodes (off by default)");
+  CLI::Option* control = cmd->add_flag("--dashboard-control", opts->dashboard_control,
+                                       "Let dashboard viewers move nodes (off by default)");
+  CLI::Option* token = cmd->add_option(
+      "--dashboard-token", opts->dashboard_token,
+      "Token that moving nodes requires (16-256 of A-Z a-z 0-9 . _ ~ -), as ?token= in the page "
+      "URL or \"Authorization: Bearer\"; beyond loopback one is drawn and printed if not given "
+      "(visible in ps: prefer --dashboard-token-file)");
+  token->needs(control);
+  cmd->add_option("--dashboard-token-file", opts->dashboard_token_file,
+                  "Read the control token from the first line of this file")
+      ->needs(control)
+      ->excludes(token);
   cmd->add_flag("--no-skip", opts->no_skip, "Run every receiver every tick (no silence skipping)");
   cmd->add_flag("--shared-noise", opts->shared_noise,
                 "One noise source for all receivers (the paper's setup)");

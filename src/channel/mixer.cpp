@@ -19,11 +19,13 @@ namespace {
 // memory traffic is one read of every input and one write of the output
 // (instead of a read-modify-write of the output per input). Clones for AVX2+FMA
 // and AVX-512 are selected at load time (GCC function multiversioning), so one
-// binary uses the widest vectors the CPU has.
+// binary uses the widest vectors the CPU has. Not under ASan or TSan: the
+// clones' resolver runs while the dynamic loader relocates, before the
+// sanitizer's runtime is set up, and its instrumented code crashes there.
 constexpr std::size_t kBlock = 16;  // complex samples: 32 floats, 4 AVX2 registers
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
 #define RFSITL_MIX_CLONES __attribute__((target_clones("default", "arch=haswell", "avx512f")))
 #else
 #define RFSITL_MIX_CLONES

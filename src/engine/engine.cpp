@@ -35,13 +35,8 @@ double front_end_gain(double noise_variance) {
   return 1.0 / std::sqrt(noise_variance > 0.0 ? noise_variance : 1e-12);
 }
 
-std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t stream) {
-  // splitmix64 finalizer: independent, reproducible streams per receiver.
-  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (stream + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
+/// The noise stream of channel.shared_noise: not a receiver's index.
+constexpr std::uint64_t kSharedNoiseStream = std::uint64_t{1} << 32;
 
 /// A frame waiting in a node's TX queue. It may start at the first tick that
 /// begins at or after `not_before`, the virtual time at which it arrived.
@@ -76,7 +71,10 @@ struct Node : phy::RxHandler {
   std::vector<const cf32*> mix_inputs;
   std::vector<cf32> mix_coeffs;
   std::vector<Decoded> decoded;
-  enum class RxTick { kRan, kSkipped, kBlanked } rx_tick = RxTick::kRan;
+  /// kWatched: the receiver is idle (skipped) but an observer wants its input,
+  /// so the input is computed and the receiver is not run: watching changes no
+  /// receiver's state, hence no outcome.
+  enum class RxTick { kRan, kSkipped, kBlanked, kWatched } rx_tick = RxTick::kRan;
   bool watched = false;  // an observer wants this tick's samples
   std::size_t index = 0;
   SampleTime tick_time = 0;
@@ -132,14 +130,14 @@ class LockStepEngine final : public Engine {
       node.mix_coeffs.reserve(n);
       node.decoded.reserve(8);
       if (!s.channel.shared_noise && s.channel.noise_variance > 0.0) {
-        node.noise.emplace(mix_seed(s.seed, i), unit_noise_variance());
+        node.noise.emplace(s.seed, i, unit_noise_variance());
       }
       if (s.nodes[i].initial_position) {
         channel_.set_position(i, channel::to_ecef(*s.nodes[i].initial_position, s.channel.origin));
       }
     }
     if (s.channel.shared_noise && s.channel.noise_variance > 0.0) {
-      shared_noise_.emplace(mix_seed(s.seed, n), unit_noise_variance());
+      shared_noise_.emplace(s.seed, kSharedNoiseStream, unit_noise_variance());
       shared_noise_buf_.assign(block_, cf32{});
     }
     std::vector<double> sensitivity;
@@ -340,7 +338,7 @@ class LockStepEngine final : public Engine {
     }
     record_transmissions();
     plan_receivers();
-    if (shared_noise_ && !runnable_.empty()) shared_noise_->fill(shared_noise_buf_);
+    if (shared_noise_ && !runnable_.empty()) shared_noise_->fill(shared_noise_buf_, now_);
     // Receivers that run are dealt round-robin to the workers: balanced whatever
     // their indices are. A few receivers that only hear noise (run because
     // skipping is off or someone watches them) cost less than waking the workers.
@@ -418,10 +416,12 @@ class LockStepEngine final : public Engine {
   /// finished transmitting, or some other active transmitter n reaches it with
   /// c_nm != 0). Otherwise its input is pure noise, from which it cannot decode
   /// anything. skip_idle_receivers = false runs every receiver every tick.
+  /// Observers do not count: a watched idle receiver's input is computed for
+  /// them (RxTick::kWatched) without running it.
   bool receiver_must_run(std::size_t m) const {
     const Node& node = nodes_[m];
     if (blanked_whole_tick(node)) return false;
-    if (!scenario_.engine.skip_idle_receivers || node.watched) return true;
+    if (!scenario_.engine.skip_idle_receivers) return true;
     return hears_more_than_noise(m);
   }
 
@@ -450,6 +450,9 @@ class LockStepEngine final : public Engine {
         node.rx_tick = Node::RxTick::kRan;
         runnable_.push_back(m);
         if (node.radio->remote() || hears_more_than_noise(m)) ++busy_receivers_;
+      } else if (node.watched && !blanked_whole_tick(node)) {
+        node.rx_tick = Node::RxTick::kWatched;
+        runnable_.push_back(m);
       } else {
         node.rx_tick = blanked_whole_tick(node) ? Node::RxTick::kBlanked : Node::RxTick::kSkipped;
       }
@@ -460,7 +463,8 @@ class LockStepEngine final : public Engine {
   /// samples after its own transmission, then decode.
   void rx_phase(std::size_t m) {
     Node& node = nodes_[m];
-    if (node.receiver_blanked) {
+    const bool run = node.rx_tick == Node::RxTick::kRan;
+    if (run && node.receiver_blanked) {
       node.radio->reset_receiver();
       node.receiver_blanked = false;
     }
@@ -480,17 +484,19 @@ class LockStepEngine final : public Engine {
     const std::span<cf32> y(node.rx.data() + first, len);
     channel::mix(node.mix_inputs, node.mix_coeffs, y);
     if (node.noise) {
-      node.noise->add_to(y);
+      node.noise->add_to(y, static_cast<std::uint64_t>(now_) + first);
     } else if (shared_noise_) {
       for (std::size_t t = 0; t < len; ++t) y[t] += shared_noise_buf_[first + t];
     }
-    node.radio->receive(y, node);
+    if (run) node.radio->receive(y, node);
   }
 
   void handle_decodes() {
     for (std::size_t m = 0; m < nodes_.size(); ++m) {
       Node& node = nodes_[m];
-      if (node.rx_tick == Node::RxTick::kSkipped) ++skipped_ticks_;
+      if (node.rx_tick == Node::RxTick::kSkipped || node.rx_tick == Node::RxTick::kWatched) {
+        ++skipped_ticks_;
+      }
       if (node.rx_tick == Node::RxTick::kRan) ++run_ticks_;
       if (node.rx_tick == Node::RxTick::kBlanked) ++blanked_ticks_;
       if (node.watched) {

@@ -29,8 +29,6 @@ NodeCountersSnapshot NodeCounters::snapshot() const {
   s.rx_crc_failures = rd(rx_crc_failures);
   s.framing_errors = rd(framing_errors);
   s.to_agent_dropped = rd(to_agent_dropped);
-  s.location_updates = rd(location_updates);
-  s.location_errors = rd(location_errors);
   s.external_stalls = rd(external_stalls);
   return s;
 }

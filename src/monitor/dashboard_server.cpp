@@ -1,5 +1,6 @@
 #include <utility>  // GCC 12 + C++20: before Boost.Asio
 
+#include <algorithm>
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
@@ -19,6 +20,7 @@
 
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/common/log_text.hpp"
+#include "rfsitl/monitor/control_token.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/json_text.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
@@ -46,7 +48,10 @@ class Server;
 
 class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
  public:
-  ViewerSession(tcp::socket socket, Server& server) : ws_(std::move(socket)), server_(server) {}
+  /// `control_refusal`: why this viewer may not move nodes ("" when it may, as
+  /// far as the control token goes), decided once from its upgrade request.
+  ViewerSession(tcp::socket socket, Server& server, std::string control_refusal)
+      : ws_(std::move(socket)), server_(server), control_refusal_(std::move(control_refusal)) {}
   void start(http::request<http::string_body> request);
   /// Queues a message. A viewer that cannot keep up loses the oldest ones
   /// (a snapshot or spectrum is replaced by the next), so its queue stays
@@ -59,6 +64,7 @@ class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
   bool take_lost_snr() { return queue_.take_lost_snr(); }
   std::optional<std::size_t> watching() const { return watching_; }
   SampleTime last_constellation = -1;
+  const std::string& control_refusal() const { return control_refusal_; }
   void close();
 
  private:
@@ -69,6 +75,7 @@ class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
 
   websocket::stream<beast::tcp_stream> ws_;
   Server& server_;
+  std::string control_refusal_;
   beast::flat_buffer buffer_;
   ViewerQueue queue_;
   std::optional<std::size_t> watching_;
@@ -114,18 +121,23 @@ class Server final : public Dashboard {
   std::size_t viewers() const override { return viewer_count_.load(); }
   std::uint64_t messages_dropped() const override { return dropped_.load(); }
   std::size_t peak_send_queue() const override { return peak_queue_.load(); }
+  std::uint64_t control_refused() const override { return control_refused_.load(); }
 
   // ---- called on the I/O thread by sessions --------------------------------------
   void add_viewer(const std::shared_ptr<ViewerSession>& v) {
     viewers_.push_back(v);
     viewer_count_.store(viewers_.size());
+    // "control": whether this viewer may move nodes; with control on but
+    // without the token, "control_refused" says why not.
+    const bool may_control = settings_.control && v->control_refusal().empty();
     Json hello = {{"type", "hello"},
                   {"scenario", scenario_.name},
-                  {"control", settings_.control},
+                  {"control", may_control},
                   {"sample_rate_hz", scenario_.timing.sample_rate_hz},
                   {"spectrum_bins", LiveView::kSpectrumBins},
                   {"node_ids", engine_.node_ids()},
                   {"counters", node_counter_fields_json()}};
+    if (settings_.control && !may_control) hello["control_refused"] = v->control_refusal();
     v->send({std::make_shared<const std::string>(json_text(hello)), MessageKind::kEssential});
     // A new viewer needs the link matrix, which later snapshots carry only
     // when something moved.
@@ -150,6 +162,8 @@ class Server final : public Dashboard {
     });
     viewer_count_.store(viewers_.size());
   }
+
+  bool control_on() const { return settings_.control; }
 
   void watch(std::optional<std::size_t> node, int delta) {
     if (node) view_.watch(*node, delta);
@@ -183,6 +197,26 @@ class Server final : public Dashboard {
     engine_.set_position(index, channel::to_ecef(*r.position, scenario_.channel.origin));
     spdlog::info("dashboard: node {} moved by a viewer", engine_.node_ids()[index]);
     return "";
+  }
+
+  /// Why a control request `req` (a move, or the /ws upgrade that may later
+  /// send moves) lacks the control token, or "" when it has it or none is needed.
+  std::string control_token_refusal_of(const http::request<http::string_body>& req) const {
+    if (settings_.control_token.empty()) return "";
+    const auto it = req.find(http::field::authorization);
+    std::optional<std::string_view> authorization;
+    if (it != req.end()) authorization = std::string_view(it->value().data(), it->value().size());
+    return control_token_refusal(std::string_view(req.target().data(), req.target().size()),
+                                 authorization, settings_.control_token);
+  }
+
+  /// A control request was refused for want of the token: counted, and logged
+  /// the first few times (a client retrying must not flood the log).
+  void note_control_refused(const std::string& why, const std::string& who) {
+    const std::uint64_t n = control_refused_.fetch_add(1) + 1;
+    if (n <= 20 || n % 1000 == 0) {
+      spdlog::warn("dashboard: a move from {} refused ({} so far): {}", who, n, why);
+    }
   }
 
   /// Why `req` must be refused ("" to serve it) and with which status: a Host
@@ -226,7 +260,12 @@ class Server final : public Dashboard {
            "did not keep up (replaced by newer ones or dropped to bound their queues).\n"
            "# TYPE rfsitl_dashboard_messages_dropped_total counter\n"
            "rfsitl_dashboard_messages_dropped_total " +
-           std::to_string(messages_dropped()) + "\n";
+           std::to_string(messages_dropped()) +
+           "\n# HELP rfsitl_dashboard_control_refused_total Moves refused because they did not "
+           "carry the dashboard's control token or carried a wrong one.\n"
+           "# TYPE rfsitl_dashboard_control_refused_total counter\n"
+           "rfsitl_dashboard_control_refused_total " +
+           std::to_string(control_refused()) + "\n";
   }
 
  private:
@@ -284,16 +323,24 @@ class Server final : public Dashboard {
   tcp::acceptor acceptor_{io_};
   asio::steady_timer timer_;
   asio::steady_timer accept_retry_{io_};
+  std::uint64_t accept_failures_ = 0;  // accept loop only
   std::uint16_t port_ = 0;
   std::vector<std::weak_ptr<ViewerSession>> viewers_;
   std::atomic<std::size_t> viewer_count_{0};
   std::atomic<std::uint64_t> dropped_{0};
   std::atomic<std::size_t> peak_queue_{0};
+  std::atomic<std::uint64_t> control_refused_{0};
   std::vector<float> last_gains_;  // as of the latest snapshot pushed
   std::thread thread_;
 };
 
 // ---- plain HTTP ----------------------------------------------------------------------
+
+/// A request target without its query ("/ws?token=..." -> "/ws").
+std::string_view path_of(beast::string_view target) {
+  const std::string_view t(target.data(), target.size());
+  return t.substr(0, t.find('?'));
+}
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
@@ -319,13 +366,19 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     http::status status{};
     if (const std::string why = server_.refusal(req, status); !why.empty()) {
       // All three quote the client's request (the reason its Host or Origin).
+      // The target without its query: a control token must not reach the log.
+      std::string target(req.target());
+      target.resize(std::min(target.size(), target.find('?')));
       spdlog::warn("dashboard: {} {} refused: {}", log_text(std::string(req.method_string())),
-                   log_text(std::string(req.target())), log_text(why));
+                   log_text(target), log_text(why));
       return respond(Server::error_response(req, status, why));
     }
-    if (websocket::is_upgrade(req) && req.target() == "/ws") {
+    if (websocket::is_upgrade(req) && path_of(req.target()) == "/ws") {
       stream_.expires_never();
-      std::make_shared<ViewerSession>(stream_.release_socket(), server_)->start(std::move(req));
+      // Without the token the viewer may still watch; its moves are refused.
+      std::make_shared<ViewerSession>(stream_.release_socket(), server_,
+                                      server_.control_token_refusal_of(req))
+          ->start(std::move(req));
       return;
     }
     respond(server_.handle(req));
@@ -351,7 +404,12 @@ void Server::accept() {
     if (ec) {
       // Out of descriptors (EMFILE) and the like pass: try again shortly rather
       // than stop serving for good.
-      spdlog::warn("dashboard: cannot accept a connection ({}); retrying in 100 ms", ec.message());
+      // Logged the first 20 times, then one in 1000: a full descriptor table
+      // lasts many retries.
+      if (++accept_failures_ <= 20 || accept_failures_ % 1000 == 0) {
+        spdlog::warn("dashboard: cannot accept a connection ({}); retrying in 100 ms ({} so far)",
+                     ec.message(), accept_failures_);
+      }
       accept_retry_.expires_after(std::chrono::milliseconds(100));
       accept_retry_.async_wait([this](const boost::system::error_code& wait_ec) {
         if (!wait_ec) accept();
@@ -408,6 +466,16 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
       target.ends_with(kSuffix)) {
     const std::string id_text =
         target.substr(kPrefix.size(), target.size() - kPrefix.size() - kSuffix.size());
+    // Before anything about the node or the body is answered: a client without
+    // the token learns nothing but that it needs one.
+    if (settings_.control) {
+      if (const std::string why = control_token_refusal_of(req); !why.empty()) {
+        note_control_refused(why, "POST " + log_text(target));
+        auto refused = error(http::status::unauthorized, why);
+        refused.set(http::field::www_authenticate, "Bearer realm=\"rfsitl dashboard control\"");
+        return refused;
+      }
+    }
     // Digits only (stoul would take " 2" and "-1"), parsed at full width.
     std::uint64_t id = 0;
     const auto [end, ec] = std::from_chars(id_text.data(), id_text.data() + id_text.size(), id);
@@ -537,6 +605,14 @@ void ViewerSession::on_message(const std::string& text) {
     server_.watch(watching_, +1);
     last_constellation = -1;
   } else if (m["type"] == "move") {
+    if (!control_refusal_.empty() && server_.control_on()) {
+      beast::error_code ec;
+      const auto peer = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+      server_.note_control_refused(control_refusal_, ec ? std::string("a viewer")
+                                                        : "viewer " + peer.address().to_string() +
+                                                              ":" + std::to_string(peer.port()));
+      return reply_error(control_refusal_);
+    }
     if (!node) return reply_error("move: unknown node");
     const std::string why = server_.move_node(*node, m);
     if (!why.empty()) reply_error(why);

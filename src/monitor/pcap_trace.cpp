@@ -207,6 +207,15 @@ class PcapTraceImpl final : public PcapTrace {
     if (file_ != nullptr && std::fflush(file_) != 0) fail("flush");
   }
 
+  nlohmann::json summary() const override {
+    std::lock_guard lock(mutex_);
+    return {{"path", settings_.path},
+            {"events_written", events_written_},
+            {"files_dropped", files_dropped_},
+            {"stopped", !error_.empty()},
+            {"error", error_.empty() ? nlohmann::json(nullptr) : nlohmann::json(error_)}};
+  }
+
  private:
   std::string rotated_name(unsigned k) const {
     return k == 0 ? settings_.path : settings_.path + "." + std::to_string(k);
@@ -221,8 +230,8 @@ class PcapTraceImpl final : public PcapTrace {
     if (file_ == nullptr) {
       const std::string why = std::strerror(errno);
       if (first) throw std::runtime_error("cannot open pcap trace " + settings_.path + ": " + why);
-      spdlog::error("pcap trace {}: cannot reopen after rotation: {}; trace stopped",
-                    settings_.path, why);
+      error_ = "cannot reopen after rotation: " + why;
+      spdlog::error("pcap trace {}: {}; trace stopped", settings_.path, error_);
       return;
     }
     std::setvbuf(file_, nullptr, _IOFBF, 1 << 18);
@@ -332,18 +341,21 @@ class PcapTraceImpl final : public PcapTrace {
     return true;
   }
 
+  // The trace ends here; the run goes on without it.
   void fail(const char* what) {
-    spdlog::error("pcap trace {}: {} failed: {}; trace stopped", settings_.path, what,
-                  std::strerror(errno));
-    std::fclose(file_);
+    error_ = std::string(what) + " failed: " + std::strerror(errno);
+    spdlog::error("pcap trace {}: {}; trace stopped", settings_.path, error_);
+    if (file_ != nullptr) std::fclose(file_);
     file_ = nullptr;
   }
 
   /// FILE.(max_files-2) -> FILE.(max_files-1), ..., FILE -> FILE.1; the oldest
   /// is deleted; a new FILE starts with its own headers.
   void rotate() {
-    std::fclose(file_);
+    // Closing writes out the buffered tail: on a full disk that fails too.
+    const bool closed = std::fclose(file_) == 0;
     file_ = nullptr;
+    if (!closed) return fail("write");
     std::error_code ec;
     const std::string oldest = rotated_name(max_files_ - 1);
     if (std::filesystem::remove(oldest, ec)) ++files_dropped_;
@@ -365,6 +377,7 @@ class PcapTraceImpl final : public PcapTrace {
   std::uint64_t packets_in_file_ = 0;
   std::uint64_t events_written_ = 0;
   std::uint64_t files_dropped_ = 0;
+  std::string error_;  ///< why the trace stopped early; "" while it is written
 };
 
 }  // namespace

@@ -67,7 +67,8 @@ struct Channel {
   std::uint64_t limit = 0;  ///< samples allowed by max_bytes
   std::vector<Segment> segments;
   bool truncated = false;
-  std::string error;
+  std::string error;  ///< why writing the data stopped early; "" while it works
+  bool meta_written = false;
   std::atomic<bool> done{false};  ///< no more samples wanted
 };
 
@@ -226,14 +227,20 @@ class SigmfRecorderImpl final : public SigmfRecorder {
     for (Channel& c : channels_) {
       c.done.store(true, std::memory_order_relaxed);
       if (c.data != nullptr) {
-        if (std::fclose(c.data) != 0 && c.error.empty()) c.error = std::strerror(errno);
+        // Closing writes out the buffered tail: on a full disk that fails too.
+        if (std::fclose(c.data) != 0 && c.error.empty()) {
+          c.error = std::strerror(errno);
+          spdlog::error("sigmf: writing {} failed: {}; the recording ends before its last samples",
+                        c.data_path, c.error);
+        }
         c.data = nullptr;
       }
       try {
         std::ofstream out(c.meta_path, std::ios::trunc);
         out << json_text(meta_of(c), 2) << '\n';
         out.close();
-        if (!out) spdlog::error("sigmf: cannot write {}", c.meta_path);
+        c.meta_written = static_cast<bool>(out);
+        if (!out) spdlog::error("sigmf: cannot write {}: {}", c.meta_path, std::strerror(errno));
       } catch (const std::exception& ex) {
         spdlog::error("sigmf: cannot write {}: {}", c.meta_path, ex.what());
       }
@@ -246,6 +253,22 @@ class SigmfRecorderImpl final : public SigmfRecorder {
       if (c.id == id) return c.written;
     }
     return 0;
+  }
+
+  nlohmann::json summary() const override {
+    std::lock_guard lock(mutex_);
+    nlohmann::json nodes = nlohmann::json::array();
+    for (const Channel& c : channels_) {
+      nodes.push_back(
+          {{"id", c.id},
+           {"data", c.data_path},
+           {"samples_written", c.written},
+           {"truncated", c.truncated},
+           {"stopped", !c.error.empty()},
+           {"error", c.error.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.error)},
+           {"meta_written", c.meta_written}});
+    }
+    return {{"directory", settings_.directory}, {"nodes", std::move(nodes)}};
   }
 
  private:

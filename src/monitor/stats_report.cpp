@@ -39,23 +39,33 @@ void add_motion(nlohmann::json& n, const position::NodeMotion& m) {
   }
 }
 
-// Where node i's positions come from: a mobility model, a live source (with its
-// counters), or only its location port.
+nlohmann::json counts_json(const position::SourceCounters& c) {
+  return {{"updates", c.updates}, {"errors", c.errors}};
+}
+
+// Where node i's positions come from: a mobility model or a live source (the
+// location port by default), with its counters; for a node whose own source is
+// another, also the location port's overrides.
 nlohmann::json source_json(const scenario::Scenario& s, std::size_t i,
                            const position::SourceStatusFn& sources) {
-  if (const auto& m = s.nodes[i].mobility) return {{"type", "mobility"}, {"model", m->type}};
   const auto status = sources ? sources(i) : std::nullopt;
-  if (!status) return {{"type", s.source_of(i).type}};
-  const position::SourceCounters& c = status->counters;
-  nlohmann::json j = {{"type", status->type},     {"where", status->where},
-                      {"connected", c.connected}, {"stale", c.stale},
-                      {"updates", c.updates},     {"errors", c.errors},
-                      {"ignored", c.ignored},     {"reconnects", c.reconnects}};
-  j["last_update_age_s"] =
-      c.last_update_age_s ? nlohmann::json(round_to(*c.last_update_age_s, 3)) : nullptr;
-  nlohmann::json detail = nlohmann::json::object();
-  for (const auto& [name, value] : c.detail) detail[name] = value;
-  j["detail"] = std::move(detail);
+  nlohmann::json j;
+  if (const auto& m = s.nodes[i].mobility) {
+    j = {{"type", "mobility"}, {"model", m->type}};
+  } else if (!status) {
+    return {{"type", s.source_of(i).type}};
+  } else {
+    const position::SourceCounters& c = status->counters;
+    j = {{"type", status->type}, {"where", status->where},    {"connected", c.connected},
+         {"stale", c.stale},     {"updates", c.updates},      {"errors", c.errors},
+         {"ignored", c.ignored}, {"reconnects", c.reconnects}};
+    j["last_update_age_s"] =
+        c.last_update_age_s ? nlohmann::json(round_to(*c.last_update_age_s, 3)) : nullptr;
+    nlohmann::json detail = nlohmann::json::object();
+    for (const auto& [name, value] : c.detail) detail[name] = value;
+    j["detail"] = std::move(detail);
+  }
+  if (status && status->overrides) j["overrides"] = counts_json(*status->overrides);
   return j;
 }
 
@@ -211,13 +221,20 @@ void write_motion_metrics(std::ostream& o, const nlohmann::json& nodes) {
   }
   prometheus_family(o, "rfsitl_position_source_events_total", "counter",
                     "A live position source's counts per node: updates, errors, ignored, "
-                    "reconnects, and its finer counts.");
+                    "reconnects, its finer counts, and the location port's overrides "
+                    "(override_updates, override_errors) of a node fed by another source.");
   for (const auto& n : nodes) {
     const auto& src = n.at("source");
     for (const char* key : {"updates", "errors", "ignored", "reconnects"}) {
       if (!src.contains(key)) continue;
       o << "rfsitl_position_source_events_total{node=\"" << n.at("id").get<unsigned>()
         << "\",event=\"" << key << "\"} " << src.at(key).get<std::uint64_t>() << '\n';
+    }
+    if (src.contains("overrides")) {
+      for (const auto& [key, value] : src.at("overrides").items()) {
+        o << "rfsitl_position_source_events_total{node=\"" << n.at("id").get<unsigned>()
+          << "\",event=\"override_" << key << "\"} " << value.get<std::uint64_t>() << '\n';
+      }
     }
     if (!src.contains("detail")) continue;
     for (const auto& [key, value] : src.at("detail").items()) {

@@ -5,7 +5,7 @@
 // The live position sources, one entry each: adding one is a folder under
 // src/position/ (with a CMakeLists.txt building rfsitl_<folder>) that defines
 // `PositionSourceComponent <folder>_component()`, and the folder's name here.
-#define RFSITL_POSITION_SOURCES(X) X(mavlink_source)
+#define RFSITL_POSITION_SOURCES(X) X(location_port) X(mavlink_source)
 
 namespace rfsitl::position {
 

@@ -392,14 +392,14 @@ std::optional<MobilityChoice> read_mobility(Context& c, const Entry& at) {
   return m;
 }
 
-// `position: {source: mavlink, endpoint: ..., rate_hz: 10}`: a live source (or
-// location_port) and its declared settings. A node's may add `start: {x, y, z}`
+// `position: {source: mavlink, endpoint: ..., rate_hz: 10}`: a live source and
+// its declared settings. A node's may add `start: {x, y, z}`
 // (or lat/lon/alt), where the node is until its source first reports.
 PositionSourceChoice read_source(Context& c, const Entry& at, std::optional<Position>* start) {
   Section sec(c, at);
   const Entry type = sec.require("source");
   PositionSourceChoice p{text(c, type), {}};
-  std::vector<std::string> names{PositionSourceChoice::kLocationPort};
+  std::vector<std::string> names;
   std::vector<const config::ComponentInfo*> sources;
   for (const auto& component : position::position_source_components()) {
     names.push_back(component.info.name);
@@ -407,10 +407,6 @@ PositionSourceChoice read_source(Context& c, const Entry& at, std::optional<Posi
   }
   c.check_name(p.type, type.key, names);
   if (start != nullptr) *start = read_position(c, sec.take("start"));
-  if (p.is_location_port()) {
-    sec.finish();
-    return p;
-  }
   const config::ComponentInfo& info = position::find_position_source(p.type)->info;
   p.settings = info.defaults();
   read_declared(c, sec, at, info, sources, p.settings);

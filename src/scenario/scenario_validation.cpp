@@ -114,15 +114,18 @@ void check_phy(const Context& c, const PhyChoice& p, const std::string& key) {
   }
 }
 
-// A live source must be registered, its settings valid, and (for one that
+// A position source must be registered, its settings valid, and (for one that
 // follows the wall clock) the run in real time.
 void check_source(const Context& c, const Scenario& s, const PositionSourceChoice& p,
                   const std::string& key) {
-  if (p.is_location_port()) return;
   const auto* component = position::find_position_source(p.type);
   if (component == nullptr) c.fail(key + ".source", "unknown '" + p.type + "'");
+  // Settings a choice leaves out take the component's defaults (the default
+  // choice, the location port, names none).
+  config::Settings full = component->info.defaults();
+  for (const auto& [name, value] : p.settings) full.set(name, value);
   try {
-    component->info.validate(p.settings);
+    component->info.validate(full);
   } catch (const config::SettingError& e) {
     c.fail(e.key().empty() ? key : key + "." + e.key(), e.what());
   }

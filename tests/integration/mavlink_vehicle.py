@@ -352,6 +352,12 @@ class MavlinkVehicle:
     def _stream_loop(self):
         last_position = time.monotonic()
         while not self.stop_event.wait(0.005):
+            # Nothing is due while no peer listens: a report sent to nobody
+            # would use up a zero-fix report before the client connects (a
+            # race a loaded machine loses).
+            with self.send_lock:
+                if self.peer is None:
+                    continue
             now = time.monotonic()
             with self.lock:
                 due = []

@@ -23,10 +23,10 @@ class DsssTest(unittest.TestCase):
                 src, dst = 2 * i + 1, 2 * i + 2
                 payload = bytes((i * 11 + k) & 0xFF for k in range(80))
                 agents[src].send(src, dst, payload)
-                self.assertEqual(agents[dst].receive(1, timeout=3.0), [(src, dst, payload)],
+                self.assertEqual(agents[dst].receive(1), [(src, dst, payload)],
                                  f"{code} {modulation}")
                 agents[dst].send(dst, src, b"ack")
-                self.assertEqual(agents[src].receive(1, timeout=3.0), [(dst, src, b"ack")],
+                self.assertEqual(agents[src].receive(1), [(dst, src, b"ack")],
                                  f"{code} {modulation} reply")
             summary = emu.stop()
         self.assertTrue(any("dsss mseq31 dbpsk" in line for line in emu.output), emu.output[:10])

@@ -72,9 +72,11 @@ class MavlinkSourceTest(unittest.TestCase):
         self.addCleanup(lambda: [v.stop() for v in vehicles])
         return vehicles
 
-    def exchange(self, a_src, a_dst, src, dst, tag):
+    def exchange(self, a_src, a_dst, src, dst, tag, expected=True):
+        """Sends tag src -> dst; what arrives (waiting long for an expected
+        frame, briefly for one that should not arrive)."""
         a_src.send(src, dst, tag)
-        return a_dst.receive(1, timeout=1.0)
+        return a_dst.receive(1) if expected else a_dst.receive(1, timeout=1.0)
 
     def test_three_vehicles_links_follow_them_out_of_range_and_back_and_through_a_reconnect(self):
         base = free_ports(3, self.STEP)
@@ -128,7 +130,10 @@ class MavlinkSourceTest(unittest.TestCase):
             v2.set_position(*at(1000.0))
             emu.wait_until(located(2, 1000.0, tol=5.0), timeout=20, what="node 2 at 1 km")
             for i in range(3):
-                self.assertEqual(self.exchange(a1, a2, 1, 2, b"far %d" % i), [])
+                self.assertEqual(self.exchange(a1, a2, 1, 2, b"far %d" % i, expected=False), [])
+            # All three lost before it comes back (a lagging run may still hold them).
+            emu.wait_until(lambda s: node_of(s, 1)["lost"]["below_sensitivity"] == 3,
+                           what="the far frames' outcome")
             # And back.
             v2.set_position(*at(8.0))
             emu.wait_until(located(2, 8.0), timeout=20, what="node 2 back")
@@ -205,6 +210,17 @@ class MavlinkSourceTest(unittest.TestCase):
             self.assertEqual(n1["source"]["type"], "mavlink")
             self.assertFalse(n1["source"]["connected"])
             self.assertAlmostEqual(n1["position"]["z"], 10.0, delta=0.01)
+            self.assertEqual(n1["source"]["overrides"], {"updates": 0, "errors": 0})
+            # Its location port still moves it (an override, until the vehicle's
+            # next report), counted apart from the MAVLink counts.
+            feed = emu.feed(1)
+            feed.move_local(0, 3, 10)
+            feed.send_line("not a position")
+            # (Counted when the line is read; the engine applies it at a later tick.)
+            st = emu.wait_until(
+                lambda s: node_of(s, 1)["source"]["overrides"] == {"updates": 1, "errors": 1}
+                and located(1, 3.0, tol=0.01)(s), what="node 1's override counted and applied")
+            self.assertEqual(node_of(st, 1)["source"]["updates"], 0)
             emu.stop()
 
     def test_a_location_feed_without_velocity_gets_one_by_differencing(self):
@@ -222,7 +238,13 @@ class MavlinkSourceTest(unittest.TestCase):
             v = node_of(st, 2)["velocity"]
             self.assertLess(abs(v["north_mps"]), 0.2 * v["east_mps"])
             self.assertLess(abs(v["up_mps"]), 0.2 * v["east_mps"])
-            self.assertEqual(node_of(st, 2)["source"], {"type": "location_port"})
+            src = node_of(st, 2)["source"]
+            self.assertEqual(src["type"], "location_port")
+            self.assertEqual(src["where"], f"127.0.0.1:{emu.loc_port(2)}")
+            self.assertGreaterEqual(src["updates"], 2)
+            self.assertEqual(src["errors"], 0)
+            self.assertTrue(src["connected"])
+            self.assertNotIn("overrides", src)
             emu.stop()
 
     def run_refused(self, args, yaml_extra=""):

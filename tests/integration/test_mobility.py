@@ -2,12 +2,22 @@
 stops delivery, moving it back restores it. Bad lines are counted and the last
 good position stays."""
 
-import time
 import unittest
 
 from harness import Emulator, assert_accounted
 
 NODES = {1: (0, 0, 10), 2: (8, 0, 10)}
+
+
+def node_of(stats, node_id):
+    return next(n for n in stats["nodes"] if n["id"] == node_id)
+
+
+def counted(node_id, key, value):
+    """A wait_until predicate: node_id's location-port counter `key` (in its
+    `source` block) has reached `value`. A feed's position is in the engine's
+    inbox before it is counted, so a frame sent afterwards goes on the air with it."""
+    return lambda st: node_of(st, node_id)["source"][key] >= value
 
 
 def nmea(body):
@@ -18,9 +28,11 @@ def nmea(body):
 
 
 class MobilityTest(unittest.TestCase):
-    def exchange(self, a1, a2, tag):
+    def exchange(self, a1, a2, tag, expected=True):
+        """Sends tag 1 -> 2; what arrives (waiting long for an expected frame,
+        briefly for one that should not arrive)."""
         a1.send(1, 2, tag)
-        return a2.receive(1, timeout=1.0)
+        return a2.receive(1) if expected else a2.receive(1, timeout=1.0)
 
     def test_moving_destination_away_stops_delivery_and_back_restores_it(self):
         with Emulator(NODES) as emu:
@@ -29,19 +41,23 @@ class MobilityTest(unittest.TestCase):
             self.assertEqual(self.exchange(a1, a2, b"near"), [(1, 2, b"near")])
 
             feed.move_local(1000, 0, 10)  # 1 km: SNR = 120 - 60 log10(1001) < 0 dB
-            time.sleep(0.2)
+            emu.wait_until(counted(2, "updates", 1), what="the move away")
             for i in range(3):
-                self.assertEqual(self.exchange(a1, a2, b"far %d" % i), [])
+                self.assertEqual(self.exchange(a1, a2, b"far %d" % i, expected=False), [])
+            # All three on the air and lost before node 2 comes back (a lagging
+            # run may still hold them in the queue).
+            emu.wait_until(lambda st: node_of(st, 1)["pending"] == 0
+                           and node_of(st, 1)["handed_in"] == 4, what="the far frames' outcome")
 
             # Back next to node 1, this time as WGS84 "lat lon alt" at the scenario origin.
             feed.send_line("43.00085 -78.7890 10")
-            time.sleep(0.2)
+            emu.wait_until(counted(2, "updates", 2), what="the move back")
             self.assertEqual(self.exchange(a1, a2, b"back"), [(1, 2, b"back")])
             summary = emu.stop()
         n1 = emu.node(1)
         self.assertEqual(n1["delivered"], 2)
         self.assertEqual(n1["lost"]["below_sensitivity"], 3)
-        self.assertEqual(emu.node(2)["location_updates"], 2)
+        self.assertEqual(emu.node(2)["source"]["updates"], 2)
         assert_accounted(self, summary)
 
     def test_bad_lines_are_counted_and_the_last_good_position_stays(self):
@@ -60,16 +76,17 @@ class MobilityTest(unittest.TestCase):
             ]
             for line in bad:
                 feed.send_line(line)
-            time.sleep(0.2)
+            emu.wait_until(counted(2, "errors", len(bad)), what="the bad lines")
             self.assertEqual(self.exchange(a1, a2, b"still here"), [(1, 2, b"still here")])
             # A valid NMEA GGA moves it far away: the feed stayed connected.
             feed.send_line(nmea("GPGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,"))
-            time.sleep(0.2)
-            self.assertEqual(self.exchange(a1, a2, b"gone"), [])
+            emu.wait_until(counted(2, "updates", 2), what="the move away")
+            self.assertEqual(self.exchange(a1, a2, b"gone", expected=False), [])
+            emu.wait_settled()
             summary = emu.stop()
         n2 = emu.node(2)
-        self.assertEqual(n2["location_errors"], len(bad))
-        self.assertEqual(n2["location_updates"], 2)
+        self.assertEqual(n2["source"]["errors"], len(bad))
+        self.assertEqual(n2["source"]["updates"], 2)
         self.assertTrue(any("checksum" in line for line in emu.output))
         assert_accounted(self, summary)
 

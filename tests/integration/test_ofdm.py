@@ -30,11 +30,11 @@ class OfdmTest(unittest.TestCase):
                 src, dst = 2 * i + 1, 2 * i + 2
                 payload = bytes((rate + k) & 0xFF for k in range(80))
                 agents[src].send(src, dst, payload)
-                self.assertEqual(agents[dst].receive(1, timeout=2.0), [(src, dst, payload)],
+                self.assertEqual(agents[dst].receive(1), [(src, dst, payload)],
                                  f"{rate} Mbit/s")
                 reply = b"ack %d" % rate
                 agents[dst].send(dst, src, reply)
-                self.assertEqual(agents[src].receive(1, timeout=2.0), [(dst, src, reply)],
+                self.assertEqual(agents[src].receive(1), [(dst, src, reply)],
                                  f"{rate} Mbit/s reply")
             summary = emu.stop()
         self.assertTrue(any("ofdm 54 Mbit/s" in line for line in emu.output), emu.output[:20])
@@ -45,21 +45,26 @@ class OfdmTest(unittest.TestCase):
 
 class MixedPhyTest(unittest.TestCase):
     def test_ofdm_transmission_collides_with_a_gmsk_frame_at_equal_power(self):
-        # Node 2 (GMSK) hears GMSK node 1 and OFDM node 3 equally strongly.
+        # Node 2 (GMSK) hears GMSK node 1 and OFDM node 3 equally strongly. The
+        # scenario's traffic in virtual time starts each GMSK frame in the same
+        # tick as a longer OFDM one, whatever the machine's load: one GMSK frame
+        # alone, then three at once with OFDM.
         nodes = {1: (-5, 0, 10), 2: (0, 0, 10), 3: (5, 0, 10), 4: (5, 5, 10)}
         ofdm = {"type": "ofdm", "rate_mbps": 6}
-        with Emulator(nodes, node_phy={3: ofdm, 4: ofdm}, args=("--speed", "0.05")) as emu:
-            a1, a2, a3 = emu.agent(1), emu.agent(2), emu.agent(3)
-            a1.send(1, 2, b"alone on the air" + bytes(60))
-            self.assertEqual(len(a2.receive(1, timeout=1.0)), 1)
-            for i in range(3):
-                a1.send(1, 2, b"gmsk %d" % i + bytes(70))
-                a3.send(3, 4, b"ofdm %d" % i + bytes(200))  # longer: covers the GMSK frame
-                self.assertEqual(a2.receive(1, timeout=1.5), [])
+        traffic = ("time: {mode: virtual, duration_s: 0.3}\n"
+                   "traffic:\n"
+                   "  - {at_s: 0.01, src: 1, dst: 2, size_bytes: 76}\n"
+                   "  - {at_s: 0.05, src: 1, dst: 2, size_bytes: 76, repeat: 3, interval_s: 0.05}\n"
+                   # longer: covers the GMSK frame
+                   "  - {at_s: 0.05, src: 3, dst: 4, size_bytes: 206, repeat: 3,"
+                   " interval_s: 0.05}\n")
+        with Emulator(nodes, traffic, node_phy={3: ofdm, 4: ofdm}, args=["--no-dashboard"]) as emu:
+            emu.proc.wait(120)
             summary = emu.stop()
         n1 = emu.node(1)
         self.assertEqual(n1["delivered"], 1)
         self.assertEqual(n1["lost"]["collision"], 3, n1)
+        self.assertEqual(emu.node(2)["received"], 1, emu.node(2))
         assert_accounted(self, summary)
 
 

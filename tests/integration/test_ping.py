@@ -21,7 +21,7 @@ class PingTest(unittest.TestCase):
                 tempfile.TemporaryDirectory() as d:
             csv_path = os.path.join(d, "rtt.csv")
             r = subprocess.run(
-                [BIN, "ping", "--src", "1", "--dst", "3", "--count", "20",
+                [BIN, "ping", "--src", "1", "--dst", "3", "--count", "20", "--timeout", "10",
                  "--net-base", str(emu.net_base), "--csv", csv_path],
                 capture_output=True, text=True, timeout=120)
             self.assertEqual(r.returncode, 0, r.stderr)
@@ -30,6 +30,7 @@ class PingTest(unittest.TestCase):
             self.assertIsNotNone(m, last)
             with open(csv_path) as f:
                 rows = list(csv.DictReader(f))
+            emu.wait_settled()
             summary = emu.stop()
         self.assertEqual(len(rows), 20)
         rtts = [float(row["rtt_ms"]) for row in rows if row["status"] == "ok"]
@@ -66,7 +67,8 @@ class PingTest(unittest.TestCase):
         with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:
             agent = emu.agent(2)
             emu.wait_for_agent(2)
-            r = self.ping(emu, "--src", "1", "--dst", "2", "--count", "3", "--take-over")
+            r = self.ping(emu, "--src", "1", "--dst", "2", "--count", "3", "--take-over",
+                          "--timeout", "10")
             self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
             self.assertTrue(agent.closed_by_peer())
             emu.stop()
@@ -76,6 +78,7 @@ class PingTest(unittest.TestCase):
         # Node 2 has no position, so no link: every ping is lost.
         with Emulator({1: (0, 0, 10), 2: None}) as emu:
             r = self.ping(emu, "--src", "1", "--dst", "2", "--count", "3", "--timeout", "0.2")
+            emu.wait_settled()  # the pings it gave up on may still be on the air
             summary = emu.stop()
         self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
         self.assertIn("lost=3/3", r.stdout)

@@ -4,8 +4,10 @@ summary counts; tshark (when installed) reads the same comments; the SigMF
 recording (--sigmf) of one node has every frame on the air annotated with the
 outcome the trace gives it, and as many samples as the run had.
 
-The run is slowed to 1/20 of real time so that frames sent back to back by the
-test overlap on the air (collision, half-duplex)."""
+The run is slowed to 1/20 of real time and the frames meant to overlap on the
+air (collision, half-duplex) are long (about 13 ms, 0.26 s of wall time), so
+that two of them sent back to back by the test overlap even when a loaded
+machine delays one of them by a good part of that."""
 
 import glob
 import json
@@ -19,7 +21,8 @@ import unittest
 from harness import LOSS_REASONS, Emulator, assert_accounted
 
 TICK = 250
-SLOW = ("--speed", "0.05", "--no-dashboard", "--tick", str(TICK))
+SLOW = ("--speed", "0.05", "--tick", str(TICK))
+PAD = bytes(600)  # the overlapping frames' length (see above)
 NODES = {1: (-5, 0, 10), 2: (0, 0, 10), 3: (5, 0, 10)}  # 1 and 3 equally far from 2
 BSSID = bytes([0x02, 0x72, 0x66, 0x73, 0x69, 0x6C])
 LLC_SNAP = bytes([0xAA, 0xAA, 0x03, 0x00, 0x00, 0x00, 0x88, 0xB5])
@@ -297,25 +300,25 @@ class TraceTest(unittest.TestCase):
         with emu:
             a1, a2, a3 = emu.agent(1), emu.agent(2), emu.agent(3)
             for i in range(2):  # 1 and 3 at once, equally strong at 2: collisions
-                p1, p3 = b"collide one %d" % i + bytes(60), b"collide three %d" % i + bytes(60)
+                p1, p3 = b"collide one %d" % i + PAD, b"collide three %d" % i + PAD
                 a1.send(1, 2, p1)
                 a3.send(3, 2, p3)
                 sent += [(1, 2, p1), (3, 2, p3)]
                 self.assertEqual(a2.receive(1, timeout=0.5), [])
             a1.send(1, 2, b"hello two")
             sent.append((1, 2, b"hello two"))
-            self.assertEqual(a2.receive(1, timeout=2.0), [(1, 2, b"hello two")])
+            self.assertEqual(a2.receive(1), [(1, 2, b"hello two")])
             a2.send(2, 255, b"hello all")
             sent.append((2, 255, b"hello all"))
-            self.assertEqual(a1.receive(1, timeout=2.0), [(2, 255, b"hello all")])
-            self.assertEqual(a3.receive(1, timeout=2.0), [(2, 255, b"hello all")])
-            p1, p2 = b"half duplex one" + bytes(60), b"half duplex two" + bytes(60)
+            self.assertEqual(a1.receive(1), [(2, 255, b"hello all")])
+            self.assertEqual(a3.receive(1), [(2, 255, b"hello all")])
+            p1, p2 = b"half duplex one" + PAD, b"half duplex two" + PAD
             a1.send(1, 2, p1)  # both transmit at once: neither hears the other
             a2.send(2, 1, p2)
             sent += [(1, 2, p1), (2, 1, p2)]
             self.assertEqual(a1.receive(1, timeout=0.5), [])
             self.assertEqual(a2.receive(1, timeout=0.5), [])
-            time.sleep(0.3)
+            emu.wait_settled()
             summary = emu.stop()
             assert_accounted(self, summary)
             self.assertGreaterEqual(emu.node(1)["lost"]["collision"], 1, emu.node(1))
@@ -341,7 +344,7 @@ class TraceTest(unittest.TestCase):
             a1, a2 = emu.agent(1), emu.agent(2)
             for i in range(40):
                 a1.send(1, 2, b"frame %03d " % i + bytes(100))
-                self.assertEqual(len(a2.receive(1, timeout=2.0)), 1)
+                self.assertEqual(len(a2.receive(1)), 1)
             summary = emu.stop()
             files = sorted(glob.glob(pcap + "*"))
             self.assertEqual(files, [pcap, pcap + ".1", pcap + ".2"])

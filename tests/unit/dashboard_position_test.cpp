@@ -7,8 +7,8 @@
 
 #include "dashboard_test_support.hpp"
 #include "rfsitl/channel/geodesy.hpp"
-#include "rfsitl/io/location_parser.hpp"
 #include "rfsitl/monitor/position_request.hpp"
+#include "rfsitl/position/location_port/location_line.hpp"
 
 namespace rfsitl::monitor {
 namespace {
@@ -25,18 +25,6 @@ std::pair<http::status, std::string> post(const LiveDashboard& d, const std::str
   return {res.result(), j.is_object() && j.contains("error") ? j["error"].get<std::string>() : ""};
 }
 
-/// The error messages a viewer gets until the reply to its end mark (a message
-/// of type "end", answered "unknown message type").
-std::vector<std::string> errors_until_end(test::Viewer& v) {
-  std::vector<std::string> errors;
-  for (;;) {
-    const Json m = Json::parse(v.read());
-    if (m.at("type") != "error") continue;
-    if (m.at("message") == "unknown message type") return errors;
-    errors.push_back(m.at("message"));
-  }
-}
-
 TEST(DashboardPosition, PostRefusesWhatTheLocationPortRefusesAndAppliesTheRest) {
   DashboardSettings settings;
   settings.control = true;
@@ -50,7 +38,7 @@ TEST(DashboardPosition, PostRefusesWhatTheLocationPortRefusesAndAppliesTheRest) 
         R"({"x": 0, "y": -10000000.5, "z": 0})"}) {
     const auto [status, error] = post(d, body);
     EXPECT_EQ(status, http::status::bad_request) << body;
-    const auto port = io::parse_location_line(body);
+    const auto port = position::parse_location_line(body);
     ASSERT_FALSE(port.error.empty()) << body;
     EXPECT_EQ(error, "bad position: " + port.error) << body;
   }
@@ -105,8 +93,7 @@ TEST(DashboardPosition, WebSocketMoveAppliesTheSameLimits) {
   ASSERT_FALSE(ec) << ec.message();
   v.write(R"({"type": "move", "node": 2, "x": 0, "y": 0, "z": 500000})");
   v.write(R"({"type": "move", "node": 2, "x": "east", "y": 0})");
-  v.write(R"({"type": "end", "node": 1})");  // answered "unknown message type": the end mark
-  const std::vector<std::string> errors = errors_until_end(v);
+  const std::vector<std::string> errors = test::errors_until_end(v);
   EXPECT_EQ(errors, (std::vector<std::string>{"bad position: z 500000 out of range [-1000, 100000]",
                                               "bad position: x: expected a number"}));
 }
@@ -139,8 +126,7 @@ TEST(DashboardPosition, NodeIdsDoNotAliasModulo2To32) {
   test::Viewer v;
   ASSERT_FALSE(v.connect(d.port()));
   v.write(R"({"type": "move", "node": 4294967297, "x": 5, "y": 6, "z": 7})");
-  v.write(R"({"type": "end", "node": 1})");
-  const std::vector<std::string> errors = errors_until_end(v);
+  const std::vector<std::string> errors = test::errors_until_end(v);
   ASSERT_EQ(errors.size(), 1U);
   // Node 1 never moved from its scenario position.
   const std::atomic<bool> stop{false};

@@ -20,6 +20,9 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "monitor_test_scenario.hpp"
 #include "rfsitl/engine/engine.hpp"
@@ -147,6 +150,20 @@ inline bool wait_for(const std::function<bool()>& condition,
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   return true;
+}
+
+/// Sends an end mark (a message of type "end", which the server answers
+/// "unknown message type") and reads up to its reply: the texts of the error
+/// messages the viewer got before it, in order.
+inline std::vector<std::string> errors_until_end(Viewer& v) {
+  v.write(R"({"type": "end", "node": 1})");
+  std::vector<std::string> errors;
+  for (;;) {
+    const nlohmann::json m = nlohmann::json::parse(v.read());
+    if (m.at("type") != "error") continue;
+    if (m.at("message") == "unknown message type") return errors;
+    errors.push_back(m.at("message"));
+  }
 }
 
 }  // namespace rfsitl::monitor::test

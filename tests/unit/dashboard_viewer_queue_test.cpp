@@ -72,8 +72,9 @@ TEST(DashboardViewerQueue, AViewerThatNeverReadsKeepsABoundedQueueAndIsCounted) 
   const auto ec = v.connect(d.port());
   ASSERT_FALSE(ec) << ec.message();
   // Each bad message earns an error reply it never reads; the socket buffers
-  // fill (a few MB), then the server's queue.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  // fill (a few MB), then the server's queue. That takes 3 s under ASan and
+  // over 30 s under ThreadSanitizer beside other tests: a generous deadline.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   std::size_t sent = 0;
   bool server_reads = true;
   while (server_reads && d.dashboard->messages_dropped() == 0 &&

@@ -49,7 +49,7 @@ TEST(EnginePositionSource, ReportsMoveNodesWithTheirMotion) {
 
   const auto stats = monitor::stats_json(s, *r.engine, [&](std::size_t i) {
     return std::optional<position::SourceStatus>(
-        position::SourceStatus{"script", source.where(i), *source.counters(i)});
+        position::SourceStatus{"script", source.where(i), *source.counters(i), std::nullopt});
   });
   const auto& n1 = stats.at("nodes").at(0);
   EXPECT_EQ(n1.at("source").at("type"), "script");

@@ -32,8 +32,6 @@ engine::NodeCountersSnapshot distinct_values() {
   c.rx_crc_failures = 11;
   c.framing_errors = 12;
   c.to_agent_dropped = 13;
-  c.location_updates = 14;
-  c.location_errors = 15;
   c.queue_depth = 16;
   c.external_stalls = 17;
   return c;
@@ -56,8 +54,6 @@ const std::map<std::string, Expected>& expected_scalars() {
       {"rx_crc_failures", {"rfsitl_rx_crc_failures_total", 11}},
       {"framing_errors", {"rfsitl_framing_errors_total", 12}},
       {"to_agent_dropped", {"rfsitl_frames_to_agent_dropped_total", 13}},
-      {"location_updates", {"rfsitl_location_updates_total", 14}},
-      {"location_errors", {"rfsitl_location_errors_total", 15}},
       {"queue_depth", {"rfsitl_tx_queue_depth", 16}},
       {"external_stalls", {"rfsitl_external_stalls_total", 17}},
   };
@@ -142,12 +138,12 @@ TEST(NodeCounterFields, SummaryTableHasAColumnPerFieldInOrder) {
   for (std::uint64_t v; row >> v;) values.push_back(v);
   // The columns the table has always had, then the ones added since.
   const std::vector<std::string> want_titles = {
-      "node",      "in",       "tx",      "delivered", "lost:sen", "lost:col", "lost:hd",
-      "lost:dec",  "lost:dst", "q-drop",  "pending",   "received", "crc-fail", "to-agent-drop",
-      "frame-err", "loc-ok",   "loc-bad", "q-depth",   "stalls"};
+      "node",      "in",       "tx",     "delivered", "lost:sen", "lost:col", "lost:hd",
+      "lost:dec",  "lost:dst", "q-drop", "pending",   "received", "crc-fail", "to-agent-drop",
+      "frame-err", "q-depth",  "stalls"};
   EXPECT_EQ(titles, want_titles);
-  const std::vector<std::uint64_t> want_values = {7,   1000, 3,  4,  5,  6,  7,  8,  9, 2,
-                                                  959, 10,   11, 13, 12, 14, 15, 16, 17};
+  const std::vector<std::uint64_t> want_values = {7, 1000, 3,  4,  5,  6,  7,  8, 9,
+                                                  2, 959,  10, 11, 13, 12, 16, 17};
   EXPECT_EQ(values, want_values);
   // Right-aligned under its title.
   EXPECT_EQ(lines[0].size(), lines[1].size());
@@ -157,7 +153,7 @@ TEST(NodeCounterFields, StatsJsonAndMetricsOfARunCarryEveryField) {
   const auto s = test::two_nodes();
   test::NullSink sink;
   auto e = engine::make_engine(s, sink);
-  e->counters(1).location_errors.store(3);
+  e->counters(1).framing_errors.store(3);
   const auto stats = stats_json(s, *e);
   const std::string metrics = prometheus_text(s, *e);
   for (const auto& n : stats.at("nodes")) {
@@ -168,13 +164,13 @@ TEST(NodeCounterFields, StatsJsonAndMetricsOfARunCarryEveryField) {
     for (const auto& [key, value] : n.items()) have.insert(key);
     EXPECT_EQ(have, keys);
   }
-  EXPECT_EQ(stats.at("nodes")[1].at("location_errors"), 3);
+  EXPECT_EQ(stats.at("nodes")[1].at("framing_errors"), 3);
   for (const auto& f : kNodeCounterFields) {
     EXPECT_NE(metrics.find("# HELP " + std::string(f.metric) + " " + std::string(f.help) + "\n"),
               std::string::npos)
         << f.metric;
   }
-  EXPECT_NE(metrics.find("rfsitl_location_errors_total{node=\"2\"} 3\n"), std::string::npos);
+  EXPECT_NE(metrics.find("rfsitl_framing_errors_total{node=\"2\"} 3\n"), std::string::npos);
 }
 
 TEST(NodeCounterFields, DashboardHelloListsTheFieldsInOrder) {

@@ -47,10 +47,10 @@ Moments measure(const std::vector<cf32>& v) {
 
 void check_statistics(std::uint64_t seed, float variance) {
   constexpr std::size_t kN = 1'000'000;
-  NoiseSource src(seed, variance);
+  NoiseSource src(seed, 3, variance);
   EXPECT_EQ(src.variance(), variance);
   std::vector<cf32> v(kN);
-  src.fill(v);
+  src.fill(v, 0);
   const Moments m = measure(v);
   const double var = variance;
   std::printf(
@@ -80,22 +80,17 @@ TEST(NoiseSource, MeasuredVarianceWithin2PercentForThermalScale) {
   check_statistics(7, 1e-12f);
 }
 
-TEST(NoiseSource, SameSeedGivesIdenticalOutput) {
-  NoiseSource a(42, 1.0f);
-  NoiseSource b(42, 1.0f);
+TEST(NoiseSource, SameSeedAndStreamGiveIdenticalOutput) {
+  NoiseSource a(42, 0, 1.0f);
+  NoiseSource b(42, 0, 1.0f);
   std::vector<cf32> va(4096), vb(4096);
-  a.fill(va);
-  b.fill(vb);
+  a.fill(va, 0);
+  b.fill(vb, 0);
   EXPECT_EQ(va, vb);
 }
 
-TEST(NoiseSource, DifferentSeedsGiveDifferentOutput) {
-  // Adjacent seeds on purpose: splitmix64 seeding must decorrelate them.
-  NoiseSource a(42, 1.0f);
-  NoiseSource b(43, 1.0f);
-  std::vector<cf32> va(4096), vb(4096);
-  a.fill(va);
-  b.fill(vb);
+/// No equal samples and a normalised correlation within 5 standard errors of 0.
+void expect_independent(const std::vector<cf32>& va, const std::vector<cf32>& vb) {
   std::size_t equal = 0;
   double cross = 0;
   for (std::size_t t = 0; t < va.size(); ++t) {
@@ -103,50 +98,68 @@ TEST(NoiseSource, DifferentSeedsGiveDifferentOutput) {
     cross += static_cast<double>(va[t].real() * vb[t].real());
   }
   EXPECT_EQ(equal, 0u);
-  // Independent streams: normalized correlation ~ N(0, 1/sqrt(4096)) = 0.016.
+  // Independent: normalized correlation ~ N(0, 1/sqrt(4096)) = 0.016.
   EXPECT_LT(std::abs(cross / (0.5 * static_cast<double>(va.size()))), 0.08);
 }
 
-TEST(NoiseSource, StreamDoesNotDependOnBufferSplitting) {
-  NoiseSource whole(5, 1.0f);
-  NoiseSource parts(5, 1.0f);
-  std::vector<cf32> a(1000), b(1000);
-  whole.fill(a);
-  parts.fill(std::span<cf32>(b).first(1));
-  parts.fill(std::span<cf32>(b).subspan(1, 299));
-  parts.fill(std::span<cf32>(b).subspan(300));
-  EXPECT_EQ(a, b);
+TEST(NoiseSource, AdjacentSeedsAndAdjacentStreamsAreIndependent) {
+  std::vector<cf32> a(4096), b(4096), c(4096);
+  NoiseSource(42, 0, 1.0f).fill(a, 0);
+  NoiseSource(43, 0, 1.0f).fill(b, 0);
+  NoiseSource(42, 1, 1.0f).fill(c, 0);
+  expect_independent(a, b);
+  expect_independent(a, c);
+  // A stream against itself shifted by one sample: no correlation between
+  // neighbouring counters either.
+  std::vector<cf32> shifted(4096);
+  NoiseSource(42, 0, 1.0f).fill(shifted, 1);
+  expect_independent(a, shifted);
+}
+
+TEST(NoiseSource, ASampleDependsOnlyOnItsIndexNotOnWhatWasDrawnBefore) {
+  const NoiseSource src(5, 2, 1.0f);
+  std::vector<cf32> whole(1000), parts(1000);
+  src.fill(whole, 7000);
+  // Drawn out of order, in uneven pieces, some twice: the same samples.
+  src.fill(std::span<cf32>(parts).subspan(300), 7300);
+  src.fill(std::span<cf32>(parts).first(1), 7000);
+  src.fill(std::span<cf32>(parts).subspan(1, 299), 7001);
+  src.fill(std::span<cf32>(parts).subspan(300, 5), 7300);
+  EXPECT_EQ(whole, parts);
+  // Sample 2^40 + 5 exists like any other (64-bit sample counter).
+  std::vector<cf32> far(2);
+  src.fill(far, (std::uint64_t{1} << 40) + 5);
+  EXPECT_NE(far[0], far[1]);
 }
 
 TEST(NoiseSource, AddToAddsTheSameNoiseOnTopOfTheSignal) {
-  NoiseSource filler(9, 0.5f);
-  NoiseSource adder(9, 0.5f);
+  const NoiseSource src(9, 0, 0.5f);
   std::vector<cf32> noise(256);
-  filler.fill(noise);
+  src.fill(noise, 100);
   std::vector<cf32> signal(256, cf32{1.0f, -2.0f});
-  adder.add_to(signal);
+  src.add_to(signal, 100);
   for (std::size_t t = 0; t < signal.size(); ++t) {
     EXPECT_EQ(signal[t], cf32(1.0f, -2.0f) + noise[t]) << "t " << t;
   }
 }
 
 TEST(NoiseSource, ZeroVarianceIsSilentAndAddToLeavesSignalUnchanged) {
-  NoiseSource src(3, 0.0f);
+  NoiseSource src(3, 0, 0.0f);
   std::vector<cf32> v(64, cf32{5.0f, 5.0f});
-  src.add_to(v);
+  src.add_to(v, 0);
   for (const cf32& s : v) {
     EXPECT_EQ(s, cf32(5.0f, 5.0f));
   }
-  src.fill(v);
+  src.fill(v, 0);
   for (const cf32& s : v) {
     EXPECT_EQ(s, cf32(0.0f, 0.0f));
   }
 }
 
 TEST(NoiseSource, RejectsNegativeOrNonFiniteVariance) {
-  EXPECT_THROW(NoiseSource(1, -1.0f), std::invalid_argument);
-  EXPECT_THROW(NoiseSource(1, std::nanf("")), std::invalid_argument);
-  EXPECT_THROW(NoiseSource(1, INFINITY), std::invalid_argument);
+  EXPECT_THROW(NoiseSource(1, 0, -1.0f), std::invalid_argument);
+  EXPECT_THROW(NoiseSource(1, 0, std::nanf("")), std::invalid_argument);
+  EXPECT_THROW(NoiseSource(1, 0, INFINITY), std::invalid_argument);
 }
 
 }  // namespace

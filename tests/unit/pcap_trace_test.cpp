@@ -508,5 +508,35 @@ TEST(PcapTrace, UnwritablePathThrowsNamingIt) {
   }
 }
 
+TEST(PcapTrace, AFullDiskStopsTheTraceAndItsSummarySaysWhy) {
+  TempDir dir;
+  PcapTraceSettings ok;
+  ok.path = dir.path("ok.pcapng");
+  auto healthy = make_pcap_trace(ok);
+  healthy->on_frame_event(event(FrameEventKind::kTransmitted, 0, 1, 2, 1, 1, {1, 2, 3}));
+  healthy->flush();
+  EXPECT_EQ(healthy->summary(), nlohmann::json({{"path", ok.path},
+                                                {"events_written", 1},
+                                                {"files_dropped", 0},
+                                                {"stopped", false},
+                                                {"error", nullptr}}));
+
+  // /dev/full opens, then refuses every write with ENOSPC: a full disk.
+  PcapTraceSettings full;
+  full.path = "/dev/full";
+  full.max_files = 1;  // nothing to rotate beside it
+  auto trace = make_pcap_trace(full);
+  constexpr std::uint32_t kEvents = 2000;  // far more than the write buffer holds
+  for (std::uint32_t i = 0; i < kEvents; ++i) {
+    trace->on_frame_event(
+        event(FrameEventKind::kTransmitted, i, 1, 2, 1, i, std::vector<std::uint8_t>(200, 7)));
+  }
+  trace->flush();
+  const nlohmann::json j = trace->summary();
+  EXPECT_EQ(j.at("stopped"), true);
+  EXPECT_EQ(j.at("error"), "write failed: No space left on device");
+  EXPECT_LT(j.at("events_written").get<std::uint64_t>(), kEvents) << "it went on after the failure";
+}
+
 }  // namespace
 }  // namespace rfsitl::monitor

@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "rfsitl/io/location_parser.hpp"
+#include "rfsitl/position/location_port/location_line.hpp"
 
 namespace rfsitl {
 namespace {
@@ -45,11 +45,11 @@ TEST(PositionLimits, TheLocationPortRefusesExactlyWhatTheLimitsRefuse) {
   for (const double a : values) {
     for (const double b : values) {
       const std::string plain = format_coordinate(a) + " " + format_coordinate(b) + " 10";
-      const auto r = io::parse_location_line(plain);
+      const auto r = position::parse_location_line(plain);
       EXPECT_EQ(r.error, position_error(GeodeticPosition{a, b, 10})) << plain;
       const std::string local =
           R"({"x": 1, "y": )" + format_coordinate(a) + R"(, "z": )" + format_coordinate(b) + "}";
-      const auto l = io::parse_location_line(local);
+      const auto l = position::parse_location_line(local);
       EXPECT_EQ(l.error, position_error(LocalPosition{1, a, b})) << local;
     }
   }

@@ -331,5 +331,41 @@ TEST(SigmfRecorder, UnknownNodeAndUnwritableDirectoryThrow) {
   }
 }
 
+TEST(SigmfRecorder, AFullDiskStopsThatNodesRecordingAndTheSummarySaysWhy) {
+  TempDir dir;
+  fs::create_directories(dir.path());
+  // Node 1's data goes to /dev/full (opens, then refuses every write with
+  // ENOSPC: a full disk); node 3's to a file.
+  fs::create_symlink("/dev/full", dir.path("node1.sigmf-data"));
+  SigmfSettings s;
+  s.directory = dir.path();
+  s.nodes = {1, 3};
+  s.duration_s = 0.05;  // 50000 samples, 400 KB: more than the write buffer holds
+  auto rec = make_sigmf_recorder(s, three_nodes());
+  const auto ticks = ticks_until(50000);
+  run_ticks(*rec, 0, ticks);
+  run_ticks(*rec, 2, ticks);
+  EXPECT_FALSE(rec->wants_samples(0, 40000, kTick)) << "a failed node wants no more samples";
+  rec->finish();
+  const json j = rec->summary();
+  EXPECT_EQ(j.at("directory"), dir.path());
+  ASSERT_EQ(j.at("nodes").size(), 2U);
+  const json& n1 = j.at("nodes")[0];
+  EXPECT_EQ(n1.at("id"), 1);
+  EXPECT_EQ(n1.at("stopped"), true);
+  EXPECT_EQ(n1.at("error"), "No space left on device");
+  EXPECT_LT(n1.at("samples_written").get<std::uint64_t>(), 50000U);
+  EXPECT_EQ(n1.at("meta_written"), true);
+  EXPECT_EQ(read_meta(dir.path("node1.sigmf-meta")).at("global").at("rfsitl:error"),
+            "No space left on device");
+  EXPECT_EQ(j.at("nodes")[1], json({{"id", 3},
+                                    {"data", dir.path("node3.sigmf-data")},
+                                    {"samples_written", 50000},
+                                    {"truncated", false},
+                                    {"stopped", false},
+                                    {"error", nullptr},
+                                    {"meta_written", true}}));
+}
+
 }  // namespace
 }  // namespace rfsitl::monitor

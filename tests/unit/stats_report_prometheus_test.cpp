@@ -81,8 +81,6 @@ TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
       {"rx_crc_failures", "rfsitl_rx_crc_failures_total"},
       {"framing_errors", "rfsitl_framing_errors_total"},
       {"to_agent_dropped", "rfsitl_frames_to_agent_dropped_total"},
-      {"location_updates", "rfsitl_location_updates_total"},
-      {"location_errors", "rfsitl_location_errors_total"},
       {"queue_depth", "rfsitl_tx_queue_depth"},
       {"external_stalls", "rfsitl_external_stalls_total"},
   };

@@ -11,6 +11,11 @@ let ws = null;
 let retryMs = 500;
 let handlers = new Map();  // message type -> (message, its JSON text) => void
 
+/** The control token of the page's URL (?token=..., printed by the emulator when
+ *  the dashboard is reachable beyond loopback), or null. It goes with the
+ *  WebSocket upgrade: without it this viewer may watch but not move nodes. */
+export const controlToken = new URLSearchParams(location.search).get('token');
+
 function setConn(s, detail = '') {
   state.conn = s;
   pill.dataset.state = s;
@@ -36,7 +41,8 @@ export function connect(onType) {
 function open() {
   setConn('connecting');
   const proto = location.protocol === 'https:' ? 'wss:' : 'ws:';
-  const socket = new WebSocket(`${proto}//${location.host}/ws`);
+  const query = controlToken ? `?token=${encodeURIComponent(controlToken)}` : '';
+  const socket = new WebSocket(`${proto}//${location.host}/ws${query}`);
   ws = socket;
   socket.onopen = () => {
     setConn('open');

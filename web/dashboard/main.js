@@ -17,7 +17,7 @@
 import { updateBusiest } from './busiest.js';
 import { connect } from './connection.js';
 import { onConstellation } from './constellation.js';
-import { setControl } from './control.js';
+import { setControl, setControlRefused } from './control.js';
 import { updatePhyLegend, updateUnknown } from './map-aside.js';
 import './map-draw.js';
 import { settleOverrides } from './map-input.js';
@@ -47,6 +47,7 @@ function onHello(m, text) {
   state.hello = m;
   state.helloText = text;
   showHello(m);
+  setControlRefused(m.control_refused);
   setControl(!!m.control);
   setCounterFields(m.counters || []);
   setNodes(m.node_ids || []);

@@ -4,7 +4,7 @@
 //
 // A dragged node is drawn where the pointer put it (state.overrides) until a
 // snapshot agrees, so it does not jump back while the move is in flight.
-import { CONTROL_OFF_TEXT } from './control.js';
+import { controlOffText } from './control.js';
 import { send } from './connection.js';
 import { $ } from './dom.js';
 import { hideMapTooltip, showMapTooltip } from './map-tooltip.js';
@@ -79,7 +79,7 @@ mapCanvas.addEventListener('pointermove', (e) => {
     d.moved = true;
     hideMapTooltip();
     if (d.kind === 'node' && !state.control) {
-      showHint(state.control === false ? CONTROL_OFF_TEXT : 'not connected yet');
+      showHint(state.control === false ? controlOffText() : 'not connected yet');
     }
   }
   if (d.kind === 'node') {

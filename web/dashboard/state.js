@@ -13,6 +13,7 @@ export const state = {
   ids: [],            // node ids in `nodes` order
   indexOf: new Map(), // id -> index
   control: null,      // null until known
+  controlRefused: null,  // why control, on for the run, is refused to this viewer (no token)
   selected: null,     // node id
   spectrum: null,
   constellation: null,

@@ -76,9 +76,12 @@ class Engine : public position::PositionSink {
   virtual std::vector<position::NodeMotion> motions() const = 0;
 
   /// Adds an observer of frame events and samples (traces, recordings, the
-  /// dashboard). Before run() only; the observer must outlive the engine's run.
-  /// Watching a node's samples makes its receiver run every tick (no silence
-  /// skipping for it).
+  /// dashboard). Before run() and before anything calls submit() (frames handed
+  /// in reach the observers on the caller's thread); the observer must outlive
+  /// the engine's run.
+  /// Watching a node's samples changes no outcome: in a tick where its receiver
+  /// would be skipped (silence), the samples are computed and the receiver does
+  /// not run; the noise is counter-based (channel/noise_source.hpp).
   virtual void add_observer(EngineObserver& observer) = 0;
 
   /// Thread-safe copy of the current positions (nullopt: unknown), by index.

@@ -27,8 +27,10 @@ class EngineObserver {
 
   /// Engine thread: whether node `node`'s received samples of the tick
   /// [tick_start, tick_start + tick_samples) are wanted. Asked once per tick
-  /// and node; cheap. A node whose samples are wanted runs its receiver in that
-  /// tick even if it hears only noise, so want only the ticks you need.
+  /// and node; cheap. Wanting samples costs their computation (mixing and
+  /// noise) in ticks the engine would otherwise skip, so want only the ticks you
+  /// need; it never runs a receiver that would not have run, so it changes no
+  /// outcome.
   virtual bool wants_samples(std::size_t /*node*/, SampleTime /*tick_start*/,
                              std::size_t /*tick_samples*/) const {
     return false;

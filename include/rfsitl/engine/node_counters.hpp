@@ -34,8 +34,6 @@ struct NodeCountersSnapshot {
   std::uint64_t rx_crc_failures = 0;   ///< decodes at this receiver that failed the CRC
   std::uint64_t framing_errors = 0;    ///< net-port bytes rejected (oversized, too short)
   std::uint64_t to_agent_dropped = 0;  ///< decoded for this node but no agent connected / backlog
-  std::uint64_t location_updates = 0;  ///< good location lines
-  std::uint64_t location_errors = 0;   ///< bad location lines
   std::uint64_t external_stalls = 0;   ///< round trips with the node's process that timed out
   std::uint64_t queue_depth = 0;       ///< TX queue length (the engine's; snapshot() leaves 0)
 
@@ -59,8 +57,6 @@ struct NodeCounters {
   std::atomic<std::uint64_t> rx_crc_failures{0};
   std::atomic<std::uint64_t> framing_errors{0};
   std::atomic<std::uint64_t> to_agent_dropped{0};
-  std::atomic<std::uint64_t> location_updates{0};
-  std::atomic<std::uint64_t> location_errors{0};
   std::atomic<std::uint64_t> external_stalls{0};
 
   static void bump(std::atomic<std::uint64_t>& c) { c.fetch_add(1, std::memory_order_relaxed); }

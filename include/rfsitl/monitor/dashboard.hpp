@@ -7,7 +7,8 @@
 ///   GET  /api/snapshot      the WebSocket snapshot message, once
 ///   GET  /metrics           Prometheus text format
 ///   POST /api/nodes/ID/position  {"x","y","z"} local metres or {"lat","lon","alt"}
-///                           (only when control is on; 403 otherwise), within the
+///                           (only when control is on; 403 otherwise; with a control
+///                           token, 401 unless the request carries it), within the
 ///                           location port's limits (rfsitl/common/position_limits.hpp)
 ///   GET  /ws                WebSocket: the server pushes {"type":"hello"} once, then
 ///                           {"type":"snapshot"} every push interval, {"type":"spectrum"}
@@ -16,7 +17,9 @@
 ///                           {"type":"move","node":ID,"x":..,"y":..,"z":..}.
 /// The message fields are in docs/dashboard.md. Every request must carry a Host
 /// naming this server and, if it has an Origin, the dashboard's own
-/// (request_checks.hpp): 421 or 403 otherwise.
+/// (request_checks.hpp): 421 or 403 otherwise. With a control token
+/// (control_token.hpp) a viewer whose /ws upgrade did not carry it may watch
+/// but not move nodes.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -33,6 +36,9 @@ struct DashboardSettings {
   /// When the port is taken and was not chosen by the user, take any free one.
   bool fall_back_to_any_port = true;
   bool control = false;  ///< viewers may move nodes
+  /// Non-empty: control requests must carry this token (control_token.hpp);
+  /// empty: control (if on) needs none.
+  std::string control_token;
   double push_interval_s = 0.25;
   /// The live position sources' status per node (stats and snapshots show it).
   position::SourceStatusFn sources;
@@ -51,6 +57,9 @@ class Dashboard {
   /// The most messages any viewer's send queue has held (ViewerQueue::kCapacity
   /// at most, plus the hello).
   virtual std::size_t peak_send_queue() const = 0;
+  /// Control requests (moves over HTTP or WebSocket) refused for want of the
+  /// control token or with a wrong one.
+  virtual std::uint64_t control_refused() const = 0;
 };
 
 /// Binds, registers its LiveView with `engine` (so call it before

@@ -8,10 +8,14 @@
 /// node, serial, SNR and outcome are in the packet's comment, e.g.
 /// "rfsitl event=lost node=1 src=1 dst=2 serial=0x01000003 snr_db=4.2 reason=collision".
 /// The encapsulation is documented in docs/traces.md. Size is bounded by
-/// rotation: FILE, FILE.1, ... FILE.(max_files-1), oldest dropped.
+/// rotation: FILE, FILE.1, ... FILE.(max_files-1), oldest dropped. A write
+/// that fails (a full disk) stops the trace, not the run: logged with the file
+/// and the reason, and reported by summary().
 #include <cstdint>
 #include <memory>
 #include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "rfsitl/engine/engine_observer.hpp"
 
@@ -32,6 +36,10 @@ class PcapTrace : public engine::EngineObserver {
   virtual std::uint64_t files_dropped() const = 0;
   /// Writes out buffered packets (also done on destruction).
   virtual void flush() = 0;
+  /// For the run's summary: {"path", "events_written", "files_dropped",
+  /// "stopped" (true once a write failed: the trace ends there), "error" (why,
+  /// e.g. "write failed: No space left on device"; null while it is written)}.
+  virtual nlohmann::json summary() const = 0;
 };
 
 /// Opens (truncates) settings.path. Throws std::runtime_error naming the path.

@@ -8,10 +8,15 @@
 /// rfsitl:dst, rfsitl:serial, rfsitl:outcome ("received" here, or the frame's
 /// final "delivered"/"lost"), rfsitl:reason, rfsitl:snr_db. Bounded: recording
 /// stops at max_bytes of data per node (the meta then says rfsitl:truncated).
+/// A write that fails (a full disk) stops that node's recording, not the run:
+/// logged with the file and the reason, in the meta as rfsitl:error, and
+/// reported by summary().
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "rfsitl/engine/engine_observer.hpp"
 #include "rfsitl/scenario/scenario.hpp"
@@ -33,6 +38,11 @@ class SigmfRecorder : public engine::EngineObserver {
   virtual void finish() = 0;
   /// Samples written for node id `id` so far.
   virtual std::uint64_t samples_written(NodeId id) const = 0;
+  /// For the run's summary: {"directory", "nodes": [{"id", "data",
+  /// "samples_written", "truncated" (max_bytes reached), "stopped" (true once
+  /// a write of its data failed), "error" (the reason, or null),
+  /// "meta_written"}]}. Call after finish() for the final "meta_written".
+  virtual nlohmann::json summary() const = 0;
 };
 
 /// Throws std::runtime_error naming the directory or file that cannot be

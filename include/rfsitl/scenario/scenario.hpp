@@ -81,12 +81,12 @@ struct MobilityChoice {
 };
 
 /// A node's live position source (registry/position_source_registry.hpp) and
-/// its declared settings, or kLocationPort: positions come only from the node's
-/// location port (and the dashboard).
+/// its declared settings; by default the location port (the node moves only
+/// when a line arrives there, or on a dashboard drag).
 struct PositionSourceChoice {
   static constexpr const char* kLocationPort = "location_port";
   std::string type = kLocationPort;
-  config::Settings settings;
+  config::Settings settings;  ///< those given; the others take the component's defaults
   bool is_location_port() const { return type == kLocationPort; }
   bool operator==(const PositionSourceChoice&) const = default;
 };

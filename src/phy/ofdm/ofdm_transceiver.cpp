@@ -19,19 +19,19 @@ namespace {
 double sensitivity_for(unsigned mbps) {
   switch (mbps) {
     case 6:
-      return 3.0;
+      return 2.9;
     case 9:
       return 3.7;
     case 12:
-      return 5.5;
+      return 5.6;
     case 18:
       return 7.6;
     case 24:
-      return 10.0;
+      return 10.2;
     case 36:
-      return 13.3;
+      return 13.4;
     case 48:
-      return 17.0;
+      return 17.2;
     default:
       return 18.6;
   }

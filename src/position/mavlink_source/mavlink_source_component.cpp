@@ -7,7 +7,9 @@ PositionSourceComponent mavlink_source_component() {
               "position", "mavlink",
               "follows a vehicle's GLOBAL_POSITION_INT and ATTITUDE over MAVLink (ArduPilot, "
               "PX4); wall clock only"),
-          true, make_mavlink_source};
+          true, [](const SourceContext&, const std::vector<SourceNode>& nodes) {
+            return make_mavlink_source(nodes);
+          }};
 }
 
 }  // namespace rfsitl::position

@@ -1,7 +1,7 @@
 #pragma once
 /// A live position source: something outside the emulator that reports where
-/// nodes are while the run goes on (an autopilot over MAVLink; later the
-/// location port). Mobility models are the other kind of source: pure functions
+/// nodes are while the run goes on (the location port, an autopilot over
+/// MAVLink). Mobility models are the other kind of source: pure functions
 /// of virtual time that the engine evaluates itself (position/mobility/).
 ///
 /// Exactly one source feeds a node. Reports go to a PositionSink; the sink
@@ -79,9 +79,12 @@ class PositionSource {
 
 /// What the monitor shows of a node's live source.
 struct SourceStatus {
-  std::string type;   ///< the registered name ("mavlink")
+  std::string type;   ///< the registered name ("mavlink"), or "mobility"
   std::string where;  ///< PositionSource::where()
   SourceCounters counters;
+  /// For a node fed by another source: the location port's counts, whose lines
+  /// override that source's positions until its next report.
+  std::optional<SourceCounters> overrides;
 };
 
 /// Node index -> its live source's status; nullopt for a node without one.
@@ -96,6 +99,14 @@ struct SourceNode {
   config::Settings settings;
 };
 
+/// What the run gives every source besides its nodes.
+struct SourceContext {
+  std::string bind_address = "127.0.0.1";  ///< where sources that listen bind (--bind)
+  /// The run's location-port base (ports.loc_base, --loc-base): node n's location
+  /// port is base + 10 n unless its settings name one.
+  std::uint16_t location_base = 15766;
+};
+
 /// What a live position source registers (registry/position_source_registry.hpp).
 struct PositionSourceComponent {
   config::ComponentInfo info;  ///< kind "position"
@@ -104,7 +115,9 @@ struct PositionSourceComponent {
   bool wall_clock = true;
   /// One source feeding all of `nodes`. Throws std::invalid_argument naming the
   /// node whose settings cannot work together (e.g. two nodes on one port).
-  std::function<std::unique_ptr<PositionSource>(const std::vector<SourceNode>& nodes)> make;
+  std::function<std::unique_ptr<PositionSource>(const SourceContext& context,
+                                                const std::vector<SourceNode>& nodes)>
+      make;
 };
 
 }  // namespace rfsitl::position

@@ -1,4 +1,4 @@
-#include "rfsitl/io/location_parser.hpp"
+#include "rfsitl/position/location_port/location_line.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <random>
 #include <string>
 
-namespace rfsitl::io {
+namespace rfsitl::position {
 namespace {
 
 // A published example sentence (NMEA 0183 reference texts): 48 07.038' N,
@@ -306,4 +306,4 @@ TEST(LocationParser, TruncatedAndCorruptedLinesNeverThrowAndAlwaysClassify) {
 }
 
 }  // namespace
-}  // namespace rfsitl::io
+}  // namespace rfsitl::position

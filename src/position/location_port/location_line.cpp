@@ -1,4 +1,4 @@
-#include "rfsitl/io/location_parser.hpp"
+#include "rfsitl/position/location_port/location_line.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -11,7 +11,7 @@
 
 #include "rfsitl/common/position_limits.hpp"
 
-namespace rfsitl::io {
+namespace rfsitl::position {
 namespace {
 
 // Every rejection is reported as this exception inside the parser and turned into
@@ -285,4 +285,4 @@ LocationParseResult parse_location_line(std::string_view line) {
   return result;
 }
 
-}  // namespace rfsitl::io
+}  // namespace rfsitl::position

@@ -11,7 +11,7 @@
 
 #include "rfsitl/common/position.hpp"
 
-namespace rfsitl::io {
+namespace rfsitl::position {
 
 struct LocationParseResult {
   /// Set when the line held a valid position.
@@ -28,4 +28,4 @@ struct LocationParseResult {
 /// A GGA sentence with fix quality 0 (no fix) is rejected.
 LocationParseResult parse_location_line(std::string_view line);
 
-}  // namespace rfsitl::io
+}  // namespace rfsitl::position
