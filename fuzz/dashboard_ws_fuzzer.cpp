@@ -17,8 +17,11 @@ using Json = nlohmann::json;
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   DashboardFixture& f = fixture();
   static boost::asio::io_context viewer_io;  // the viewer's socket; never connected
+  // Odd-sized inputs come from a viewer without the control token (its moves
+  // are refused), even-sized ones from a viewer that may move nodes.
   auto viewer = std::make_shared<rfsitl::monitor::ViewerSession>(
-      boost::asio::ip::tcp::socket(viewer_io), *f.server);
+      boost::asio::ip::tcp::socket(viewer_io), *f.server,
+      size % 2 == 1 ? std::string("no control token") : std::string());
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   std::size_t start = 0;
   for (int n = 0; n < 8 && start <= text.size(); ++n) {
