@@ -5,8 +5,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "rfsitl/common/philox.hpp"
-
 namespace rfsitl::channel {
 
 NoiseSource::NoiseSource(std::uint64_t seed, std::uint64_t stream, float variance)
@@ -41,7 +39,6 @@ cf32 gaussian(std::uint32_t a, std::uint32_t b, float sigma) {
 
 void NoiseSource::add_to(std::span<cf32> buf, std::uint64_t first_sample) const {
   if (variance_ == 0.0f) return;
-  const PhiloxKey key{key_[0], key_[1]};
   const auto sigma = static_cast<float>(sigma_per_dim_);
   std::size_t i = 0;
   while (i < buf.size()) {
@@ -50,7 +47,7 @@ void NoiseSource::add_to(std::span<cf32> buf, std::uint64_t first_sample) const 
     const PhiloxCounter w =
         philox4x32({static_cast<std::uint32_t>(pair), static_cast<std::uint32_t>(pair >> 32),
                     stream_[0], stream_[1]},
-                   key);
+                   key_);
     if ((t & 1) == 0) buf[i++] += gaussian(w[0], w[1], sigma);
     if (i < buf.size()) buf[i++] += gaussian(w[2], w[3], sigma);
   }

@@ -16,8 +16,22 @@ OPT_COMMENT = 1
 
 
 def pcap_events(path):
-    """Every frame event of an rfsitl pcapng trace, in file order, as the dict
-    of its comment's fields ("rfsitl event=lost node=1 ... reason=collision")."""
+    """Every frame event of an rfsitl pcapng trace, in order, as the dict of its
+    comment's fields ("rfsitl event=lost node=1 ... reason=collision"). A long
+    flood rotates the trace (FILE.1 is older than FILE, FILE.2 older still):
+    the rotated files are read first, oldest first."""
+    rotated = []
+    k = 1
+    while os.path.exists(f"{path}.{k}"):
+        rotated.insert(0, f"{path}.{k}")
+        k += 1
+    events = []
+    for part in rotated + [path]:
+        events += _file_events(part)
+    return events
+
+
+def _file_events(path):
     with open(path, "rb") as f:
         data = f.read()
     events = []

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <span>
 
+#include "rfsitl/common/philox.hpp"
 #include "rfsitl/common/types.hpp"
 
 namespace rfsitl::channel {
@@ -28,8 +29,8 @@ class NoiseSource {
   void fill(std::span<cf32> buf, std::uint64_t first_sample) const;
 
  private:
-  std::uint32_t key_[2];
-  std::uint32_t stream_[2];
+  PhiloxKey key_;            // the seed
+  std::uint32_t stream_[2];  // counter words 2 and 3
   float variance_;
   double sigma_per_dim_;
 };
