@@ -1,14 +1,16 @@
 /// `rfsitl describe`: every registered component (live position source,
-/// mobility model, PHY; MACs and channel stages as they arrive) with its
-/// declared settings. The settings
+/// mobility model, PHY, channel stage; MACs as they arrive) and the radio, with
+/// their declared settings. The settings
 /// tables in scenarios/README.md are `rfsitl describe --markdown`.
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "rfsitl/channel/radio.hpp"
 #include "rfsitl/config/settings_table.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
+#include "rfsitl/registry/channel_stage_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 
@@ -22,12 +24,15 @@ struct DescribeOptions {
 };
 
 // Every registered component, grouped by kind in data-path order: where nodes
-// are (live sources, mobility models), then the transceivers.
+// are (live sources, mobility models), the transceivers, the channel's stages,
+// and the radio whose link budget they complete.
 std::vector<const config::ComponentInfo*> all_components() {
   std::vector<const config::ComponentInfo*> out;
   for (const auto& s : position::position_source_components()) out.push_back(&s.info);
   for (const auto& m : position::mobility::mobility_components()) out.push_back(&m.info);
   for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
+  for (const auto& s : channel::channel_stage_components()) out.push_back(&s.info);
+  out.push_back(&channel::radio_info());
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "rfsitl/channel/channel_matrix.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -7,13 +8,16 @@
 
 namespace rfsitl::channel {
 
-ChannelMatrix::ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkModel> model)
+ChannelMatrix::ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkBudget> budget,
+                             const GeodeticPosition& origin)
     : n_(num_nodes),
-      model_(std::move(model)),
+      budget_(std::move(budget)),
+      origin_(origin),
       positions_(num_nodes),
+      local_(num_nodes),
       coeff_(num_nodes * num_nodes, cf32{0.0f, 0.0f}) {
-  if (!model_) {
-    throw std::invalid_argument("ChannelMatrix: link model must not be null");
+  if (!budget_) {
+    throw std::invalid_argument("ChannelMatrix: link budget must not be null");
   }
 }
 
@@ -21,6 +25,7 @@ void ChannelMatrix::set_position(std::size_t i, std::optional<Ecef> pos) {
   // Not a hot path (a location feed updates a few times a second), so the
   // index is checked: a bad node index must not corrupt another node's links.
   positions_.at(i) = pos;
+  if (pos) local_[i] = ecef_to_local(*pos, origin_);
   recompute(i);
 }
 
@@ -33,20 +38,31 @@ std::optional<double> ChannelMatrix::distance(std::size_t a, std::size_t b) cons
   return distance_m(*pa, *pb);
 }
 
+LinkGeometry ChannelMatrix::geometry(std::size_t tx, std::size_t rx) const {
+  LinkGeometry g;
+  g.tx = {tx, *positions_[tx], local_[tx]};
+  g.rx = {rx, *positions_[rx], local_[rx]};
+  // The diagonal is at exactly d = 0 (the node hears itself), not whatever
+  // rounding distance_m(p, p) might produce.
+  if (tx != rx) {
+    g.distance_m = distance_m(g.tx.ecef, g.rx.ecef);
+    g.horizontal_m = std::hypot(g.tx.local.x_m - g.rx.local.x_m, g.tx.local.y_m - g.rx.local.y_m);
+  }
+  return g;
+}
+
 void ChannelMatrix::recompute(std::size_t i) {
-  const std::optional<Ecef>& pi = positions_[i];
+  const bool known = positions_[i].has_value();
   for (std::size_t j = 0; j < n_; ++j) {
-    const std::optional<Ecef>& pj = positions_[j];
-    cf32 c{0.0f, 0.0f};
-    if (pi && pj) {
-      // The diagonal is the model at exactly d = 0 (the node hears itself),
-      // not whatever rounding distance_m(p, p) might produce.
-      c = model_->coefficient(j == i ? 0.0 : distance_m(*pi, *pj));
+    if (!known || !positions_[j]) {
+      coeff_[i * n_ + j] = coeff_[j * n_ + i] = cf32{0.0f, 0.0f};
+      continue;
     }
-    // LinkModel depends only on distance, so the link is reciprocal: one
-    // evaluation fills both row i (i receiving) and column i (i transmitting).
-    coeff_[i * n_ + j] = c;
-    coeff_[j * n_ + i] = c;
+    // Row i: i receives from j; column i: i transmits to j. A reciprocal
+    // budget fills both with one evaluation.
+    const cf32 from_j = budget_->coefficient(geometry(j, i));
+    coeff_[i * n_ + j] = from_j;
+    coeff_[j * n_ + i] = budget_->reciprocal() ? from_j : budget_->coefficient(geometry(i, j));
   }
 }
 

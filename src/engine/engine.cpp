@@ -13,7 +13,6 @@
 #include "node_state_inbox.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
-#include "rfsitl/channel/link_model.hpp"
 #include "rfsitl/channel/mixer.hpp"
 #include "rfsitl/channel/noise_source.hpp"
 #include "rfsitl/common/spsc_ring.hpp"
@@ -22,6 +21,7 @@
 #include "rfsitl/engine/traffic_schedule.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
+#include "rfsitl/scenario/link_budget_of.hpp"
 
 namespace rfsitl::engine {
 namespace {
@@ -94,7 +94,7 @@ class LockStepEngine final : public Engine {
         sink_(sink),
         block_(s.timing.tick_samples),
         gain_(front_end_gain(s.channel.noise_variance)),
-        channel_(s.nodes.size(), channel::make_paper_link_model(s.channel.path_loss_exponent)),
+        channel_(s.nodes.size(), scenario::make_link_budget(s), s.channel.origin),
         counters_(s.nodes.size()),
         clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
                s.timing.mode == scenario::TimeMode::kRealTime),

@@ -11,6 +11,7 @@
 
 #include "rfsitl/common/unix_socket_path.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
+#include "rfsitl/registry/channel_stage_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "scenario_rules.hpp"
@@ -137,6 +138,28 @@ void check_source(const Context& c, const Scenario& s, const PositionSourceChoic
   }
 }
 
+// Every stage registered and its settings valid; the radio within its limits.
+void check_channel(const Context& c, const Scenario& s) {
+  for (std::size_t i = 0; i < s.channel.stages.size(); ++i) {
+    const StageChoice& stage = s.channel.stages[i];
+    const std::string key = "channel.stages[" + std::to_string(i) + "]";
+    const auto* component = channel::find_channel_stage(stage.type);
+    if (component == nullptr) c.fail(key + ".type", "unknown '" + stage.type + "'");
+    try {
+      component->info.validate(stage.settings);
+    } catch (const config::SettingError& e) {
+      c.fail(e.key().empty() ? key : key + "." + e.key(), e.what());
+    }
+  }
+  if (s.radio) {
+    try {
+      channel::radio_info().validate(channel::radio_fields().settings_of(*s.radio));
+    } catch (const config::SettingError& e) {
+      c.fail("radio." + e.key(), e.what());
+    }
+  }
+}
+
 }  // namespace
 
 void validate(const Scenario& s, const Context& c) {
@@ -189,6 +212,7 @@ void validate(const Scenario& s, const Context& c) {
                                   " also has a mobility model; a node has one position source");
     }
   }
+  check_channel(c, s);
   c.check_name(s.channel.model, "channel.model", kChannelModels);
   c.check(s.channel.path_loss_exponent, "channel.path_loss_exponent", kNonNegative);
   c.check(s.channel.noise_variance, "channel.noise_variance", kNonNegative);

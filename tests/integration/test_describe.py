@@ -51,7 +51,7 @@ class DescribeTest(unittest.TestCase):
         self.assertRegex(r.stderr, r"no phy named 'lora' \(known: dsss, external, .*gmsk.*\)")
         r = cli("describe", "antenna")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("unknown kind 'antenna' (known: position, mobility, phy)", r.stderr)
+        self.assertIn("unknown kind 'antenna' (known: position, mobility, phy, channel, radio)", r.stderr)
 
     def test_scenario_readme_tables_are_the_generated_ones(self):
         with open(os.path.join(SOURCE_DIR, "scenarios", "README.md"), encoding="utf-8") as f:

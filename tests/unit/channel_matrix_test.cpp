@@ -1,4 +1,5 @@
 #include "rfsitl/channel/channel_matrix.hpp"
+#include "rfsitl/channel/stages/path_loss.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,8 +16,8 @@ Ecef at_x(double x_m) {
   return Ecef{6378137.0 + x_m, 0.0, 0.0};
 }
 
-std::shared_ptr<const LinkModel> paper3() {
-  return make_paper_link_model(3.0);
+std::shared_ptr<const LinkBudget> paper3() {
+  return make_paper_budget(3.0);
 }
 
 void expect_coeff(const ChannelMatrix& m, std::size_t tx, std::size_t rx, float path_loss) {

@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "rfsitl/channel/link_model.hpp"
+#include "rfsitl/channel/stages/path_loss.hpp"
 #include "rfsitl/engine/node_counters.hpp"
 
 namespace rfsitl::engine {
@@ -27,7 +27,7 @@ std::size_t idx(LossReason r) {
 class World {
  public:
   explicit World(const std::vector<std::optional<double>>& xs)
-      : channel(xs.size(), channel::make_paper_link_model(3.0)),
+      : channel(xs.size(), channel::make_paper_budget(3.0)),
         counters(xs.size()),
         ledger(LedgerConfig{kNoise, std::vector<double>(xs.size(), kSensitivityDb), kGrace},
                counters, [n = xs.size()](NodeId id) -> std::optional<std::size_t> {

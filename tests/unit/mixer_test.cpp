@@ -9,6 +9,7 @@
 
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/channel/stages/path_loss.hpp"
 
 namespace rfsitl::channel {
 namespace {
@@ -18,7 +19,7 @@ TEST(Mixer, ThreeNodeSuperpositionMatchesHandComputation) {
   // With exponent 3, PL = (d+1)^-3:
   //   PL00 = PL11 = PL22 = 1, PL01 = 1/8, PL12 = 1/27, PL02 = 1/64.
   const GeodeticPosition origin{43.0, -78.8, 200.0};
-  ChannelMatrix m(3, make_paper_link_model(3.0));
+  ChannelMatrix m(3, make_paper_budget(3.0));
   m.set_position(0, local_to_ecef({0.0, 0.0, 0.0}, origin));
   m.set_position(1, local_to_ecef({1.0, 0.0, 0.0}, origin));
   m.set_position(2, local_to_ecef({3.0, 0.0, 0.0}, origin));

@@ -5,7 +5,8 @@
 #include <span>
 #include <vector>
 
-#include "rfsitl/channel/link_model.hpp"
+#include "rfsitl/channel/link_budget.hpp"
+#include "rfsitl/channel/link_geometry.hpp"
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/common/types.hpp"
 
@@ -14,8 +15,10 @@ namespace rfsitl::channel {
 /// Owned by the engine thread; not thread-safe. Node indices are 0..N-1.
 class ChannelMatrix {
  public:
-  /// Precondition: model != nullptr. All nodes start without a position (no links).
-  ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkModel> model);
+  /// Precondition: budget != nullptr. All nodes start without a position (no
+  /// links). `origin` is where the local frame that stages see is centred.
+  ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkBudget> budget,
+                const GeodeticPosition& origin = {});
 
   std::size_t size() const { return n_; }
 
@@ -40,11 +43,14 @@ class ChannelMatrix {
 
  private:
   void recompute(std::size_t i);
+  LinkGeometry geometry(std::size_t tx, std::size_t rx) const;
 
   std::size_t n_;
-  std::shared_ptr<const LinkModel> model_;
+  std::shared_ptr<const LinkBudget> budget_;
+  GeodeticPosition origin_;
   std::vector<std::optional<Ecef>> positions_;
-  std::vector<cf32> coeff_;  // row-major by receiver: coeff_[rx * n + tx]
+  std::vector<LocalPosition> local_;  // of the nodes with a position
+  std::vector<cf32> coeff_;           // row-major by receiver: coeff_[rx * n + tx]
 };
 
 }  // namespace rfsitl::channel

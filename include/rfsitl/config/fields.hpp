@@ -35,9 +35,10 @@ class Fields {
     Setting s = declare(std::move(name), ValueType::kInteger, std::uint64_t{defaults_.*member},
                         std::move(unit), std::move(doc));
     s.range = Range{static_cast<double>(lo), static_cast<double>(hi)};
-    return add(std::move(s), [member](T& t, const Value& v) {
-      t.*member = static_cast<M>(std::get<std::uint64_t>(v));
-    });
+    return add(
+        std::move(s),
+        [member](T& t, const Value& v) { t.*member = static_cast<M>(std::get<std::uint64_t>(v)); },
+        [member](const T& t) { return Value(std::uint64_t{t.*member}); });
   }
 
   /// An integer that must be one of `allowed` (e.g. the 802.11a rates).
@@ -47,9 +48,10 @@ class Fields {
     Setting s = declare(std::move(name), ValueType::kInteger, std::uint64_t{defaults_.*member},
                         std::move(unit), std::move(doc));
     for (const std::uint64_t a : allowed) s.choices.push_back(std::to_string(a));
-    return add(std::move(s), [member](T& t, const Value& v) {
-      t.*member = static_cast<M>(std::get<std::uint64_t>(v));
-    });
+    return add(
+        std::move(s),
+        [member](T& t, const Value& v) { t.*member = static_cast<M>(std::get<std::uint64_t>(v)); },
+        [member](const T& t) { return Value(std::uint64_t{t.*member}); });
   }
 
   template <std::floating_point M>
@@ -57,19 +59,25 @@ class Fields {
     Setting s = declare(std::move(name), ValueType::kReal, static_cast<double>(defaults_.*member),
                         std::move(unit), std::move(doc));
     s.range = range;
-    return add(std::move(s),
-               [member](T& t, const Value& v) { t.*member = static_cast<M>(std::get<double>(v)); });
+    return add(
+        std::move(s),
+        [member](T& t, const Value& v) { t.*member = static_cast<M>(std::get<double>(v)); },
+        [member](const T& t) { return Value(static_cast<double>(t.*member)); });
   }
 
   Fields& flag(std::string name, bool T::*member, std::string doc) {
-    return add(declare(std::move(name), ValueType::kBool, defaults_.*member, "", std::move(doc)),
-               [member](T& t, const Value& v) { t.*member = std::get<bool>(v); });
+    return add(
+        declare(std::move(name), ValueType::kBool, defaults_.*member, "", std::move(doc)),
+        [member](T& t, const Value& v) { t.*member = std::get<bool>(v); },
+        [member](const T& t) { return Value(t.*member); });
   }
 
   /// Free text; a rule() says what is acceptable.
   Fields& text(std::string name, std::string T::*member, std::string doc) {
-    return add(declare(std::move(name), ValueType::kText, defaults_.*member, "", std::move(doc)),
-               [member](T& t, const Value& v) { t.*member = std::get<std::string>(v); });
+    return add(
+        declare(std::move(name), ValueType::kText, defaults_.*member, "", std::move(doc)),
+        [member](T& t, const Value& v) { t.*member = std::get<std::string>(v); },
+        [member](const T& t) { return Value(t.*member); });
   }
 
   /// One of a list of names, stored as the name.
@@ -77,8 +85,9 @@ class Fields {
                  std::string doc) {
     Setting s = declare(std::move(name), ValueType::kText, defaults_.*member, "", std::move(doc));
     s.choices = std::move(options);
-    return add(std::move(s),
-               [member](T& t, const Value& v) { t.*member = std::get<std::string>(v); });
+    return add(
+        std::move(s), [member](T& t, const Value& v) { t.*member = std::get<std::string>(v); },
+        [member](const T& t) { return Value(t.*member); });
   }
 
   /// One of a list of names, stored as the enumerator each names.
@@ -92,11 +101,19 @@ class Fields {
     }
     Setting s = declare(std::move(name), ValueType::kText, initial, "", std::move(doc));
     for (const auto& o : options) s.choices.push_back(o.first);
-    return add(std::move(s), [member, options](T& t, const Value& v) {
-      for (const auto& [word, e] : options) {
-        if (word == std::get<std::string>(v)) t.*member = e;
-      }
-    });
+    return add(
+        std::move(s),
+        [member, options](T& t, const Value& v) {
+          for (const auto& [word, e] : options) {
+            if (word == std::get<std::string>(v)) t.*member = e;
+          }
+        },
+        [member, options](const T& t) {
+          for (const auto& [word, e] : options) {
+            if (e == t.*member) return Value(word);
+          }
+          return Value(std::string());
+        });
   }
 
   /// A list of records (waypoints, channel taps): `items` declares what each
@@ -108,9 +125,10 @@ class Fields {
     Setting s = declare(std::move(name), ValueType::kRecords, items.records(defaults_.*member), "",
                         std::move(doc));
     s.items = items.shape(min_items, max_items);
-    return add(std::move(s), [member, items](T& t, const Value& v) {
-      t.*member = items.build(std::get<Records>(v));
-    });
+    return add(
+        std::move(s),
+        [member, items](T& t, const Value& v) { t.*member = items.build(std::get<Records>(v)); },
+        [member, items](const T& t) { return Value(items.records(t.*member)); });
   }
 
   /// A rule across fields, run on the built struct after every value passed its
@@ -128,6 +146,13 @@ class Fields {
       if (const Value* v = s.find(decls_[i].name)) apply_[i](t, *v);
     }
     return t;
+  }
+
+  /// Every declared field of `t` as Settings (build()'s inverse).
+  Settings settings_of(const T& t) const {
+    Settings s;
+    for (std::size_t i = 0; i < decls_.size(); ++i) s.set(decls_[i].name, read_[i](t));
+    return s;
   }
 
   /// The component's self-description, its checks included.
@@ -154,15 +179,18 @@ class Fields {
     return s;
   }
 
-  Fields& add(Setting s, std::function<void(T&, const Value&)> apply) {
+  Fields& add(Setting s, std::function<void(T&, const Value&)> apply,
+              std::function<Value(const T&)> read) {
     decls_.push_back(std::move(s));
     apply_.push_back(std::move(apply));
+    read_.push_back(std::move(read));
     return *this;
   }
 
   T defaults_{};
   std::vector<Setting> decls_;
   std::vector<std::function<void(T&, const Value&)>> apply_;
+  std::vector<std::function<Value(const T&)>> read_;
   std::vector<std::function<void(const T&)>> rules_;
 };
 

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "rfsitl/channel/radio.hpp"
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/common/types.hpp"
 #include "rfsitl/config/settings.hpp"
@@ -112,11 +113,25 @@ struct NodeConfig {
   }
 };
 
+/// One entry of `channel.stages`: a registered stage
+/// (registry/channel_stage_registry.hpp) and its declared settings, all of them
+/// (the stage's defaults merged with those given).
+struct StageChoice {
+  std::string type;
+  config::Settings settings;
+  bool operator==(const StageChoice&) const = default;
+};
+
 struct ChannelConfig {
+  /// The chain every link goes through, in order. Empty: the paper's model,
+  /// `model` with `path_loss_exponent` (the two keys are its short form).
+  std::vector<StageChoice> stages;
   std::string model = "paper";      ///< c = (1+j)/sqrt2 * (d+1)^-exponent
   double path_loss_exponent = 3.0;  ///< applied to amplitude, as in the paper
-  double noise_variance = 1e-12;    ///< sigma^2 = E|eta|^2 (-120 dB)
-  bool shared_noise = false;        ///< the paper's one noise source for all receivers
+  /// sigma^2 = E|eta|^2 (-120 dB), in mW like |c|^2; with `radio` given, the
+  /// thermal noise k T0 fs NF (kept in step by the reader).
+  double noise_variance = 1e-12;
+  bool shared_noise = false;  ///< the paper's one noise source for all receivers
   GeodeticPosition origin{43.0008, -78.7890, 0.0};  ///< where local x/y/z = 0
 };
 
@@ -170,6 +185,9 @@ struct Scenario {
   std::vector<NodeConfig> nodes;
   PhyChoice phy;
   ChannelConfig channel;
+  /// The link budget in physical units; nullopt: transmitters have 0 dBm (unit
+  /// power) and the noise is channel.noise_variance, as in the paper.
+  std::optional<channel::RadioSettings> radio;
   TimingConfig timing;
   PortConfig ports;
   EngineConfig engine;

@@ -1,0 +1,52 @@
+#pragma once
+/// A channel stage: one effect of the air on a link, a small component with its
+/// own declared settings, registered by name (registry/channel_stage_registry.hpp)
+/// and listed in the scenario's `channel.stages`, applied in that order.
+///
+/// Today's stages are large-scale: each gives every link a complex amplitude
+/// factor from the link's geometry (path loss, shadowing, antennas, occlusion).
+/// A chain of them multiplies, so their gains in dB add (link_budget.hpp).
+#include <complex>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "rfsitl/channel/link_geometry.hpp"
+#include "rfsitl/config/component_info.hpp"
+#include "rfsitl/config/settings.hpp"
+
+namespace rfsitl::channel {
+
+/// A stage that scales each link by a factor that depends on its geometry only.
+class GainStage {
+ public:
+  virtual ~GainStage() = default;
+
+  /// The link's complex amplitude factor: |g|^2 is its power gain (a loss is
+  /// below 1), arg(g) its phase shift. Pure: the same geometry always gives the
+  /// same value. Thread-safe (const). Called when a node moves, O(N) per move.
+  virtual std::complex<double> gain(const LinkGeometry& link) const = 0;
+
+  /// True when every link has the gain of its reverse (the matrix then
+  /// evaluates each pair once). Antennas that point somewhere are not.
+  virtual bool reciprocal() const { return true; }
+};
+
+/// What a stage may need beyond its settings.
+struct StageContext {
+  double carrier_hz = 2.4e9;  ///< the radio's carrier (radio.carrier_hz)
+  std::uint64_t seed = 1;     ///< the scenario's seed, for stages with random draws
+  std::size_t position = 0;   ///< the stage's place in channel.stages (keys its random streams)
+  std::string source_dir;     ///< the scenario file's folder: data files are relative to it
+};
+
+/// A registered stage: its self-description and how to build it from checked
+/// settings (they passed info.validate()). make may throw std::invalid_argument
+/// for what only building finds out (e.g. a data file that does not parse).
+struct ChannelStageComponent {
+  config::ComponentInfo info;  ///< kind "channel"
+  std::function<std::unique_ptr<GainStage>(const config::Settings&, const StageContext&)> make;
+};
+
+}  // namespace rfsitl::channel
