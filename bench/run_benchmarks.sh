@@ -252,6 +252,8 @@ if stage virtual; then
   for n in $VIRT_NODES; do
     "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" \
       --csv "$OUT/virtual_speed.csv"
+    # The same with Rayleigh fading on every link, printed beside the flat channel's.
+    "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" --fading rayleigh
   done
   mark virtual
 fi

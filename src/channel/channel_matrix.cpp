@@ -15,6 +15,9 @@ ChannelMatrix::ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkBu
       origin_(origin),
       positions_(num_nodes),
       local_(num_nodes),
+      velocity_(num_nodes),
+      attitude_(num_nodes),
+      stamp_s_(num_nodes, 0.0),
       coeff_(num_nodes * num_nodes, cf32{0.0f, 0.0f}) {
   if (!budget_) {
     throw std::invalid_argument("ChannelMatrix: link budget must not be null");
@@ -26,6 +29,7 @@ void ChannelMatrix::set_position(std::size_t i, std::optional<Ecef> pos) {
   // index is checked: a bad node index must not corrupt another node's links.
   positions_.at(i) = pos;
   if (pos) local_[i] = ecef_to_local(*pos, origin_);
+  stamp_s_[i] = clock_s_;
   recompute(i);
 }
 
@@ -40,8 +44,9 @@ std::optional<double> ChannelMatrix::distance(std::size_t a, std::size_t b) cons
 
 LinkGeometry ChannelMatrix::geometry(std::size_t tx, std::size_t rx) const {
   LinkGeometry g;
-  g.tx = {tx, *positions_[tx], local_[tx]};
-  g.rx = {rx, *positions_[rx], local_[rx]};
+  g.tx = {tx, *positions_[tx], local_[tx], velocity_[tx], attitude_[tx]};
+  g.rx = {rx, *positions_[rx], local_[rx], velocity_[rx], attitude_[rx]};
+  g.time_s = clock_s_;
   // The diagonal is at exactly d = 0 (the node hears itself), not whatever
   // rounding distance_m(p, p) might produce.
   if (tx != rx) {
@@ -49,6 +54,31 @@ LinkGeometry ChannelMatrix::geometry(std::size_t tx, std::size_t rx) const {
     g.horizontal_m = std::hypot(g.tx.local.x_m - g.rx.local.x_m, g.tx.local.y_m - g.rx.local.y_m);
   }
   return g;
+}
+
+void ChannelMatrix::set_attitude(std::size_t i, const std::optional<Orientation>& a) {
+  const bool changed =
+      attitude_.at(i).has_value() != a.has_value() ||
+      (a && (attitude_[i]->roll_rad != a->roll_rad || attitude_[i]->pitch_rad != a->pitch_rad ||
+             attitude_[i]->yaw_rad != a->yaw_rad));
+  attitude_[i] = a;
+  if (changed && budget_->depends_on_attitude()) recompute(i);
+}
+
+cf32 ChannelMatrix::coefficient_at(std::size_t tx, std::size_t rx, double t_s) const {
+  const cf32 c = coefficient(tx, rx);
+  if (!time_varying() || c == cf32{}) return c;
+  LinkGeometry g = geometry(tx, rx);
+  g.time_s = t_s;
+  // Only `local` moves: the time-varying stages read nothing else.
+  for (LinkEnd* end : {&g.tx, &g.rx}) {
+    const double dt = t_s - stamp_s_[end->index];
+    end->local.x_m += end->velocity.east_mps * dt;
+    end->local.y_m += end->velocity.north_mps * dt;
+    end->local.z_m += end->velocity.up_mps * dt;
+  }
+  const std::complex<double> h = budget_->fading(g);
+  return c * cf32{static_cast<float>(h.real()), static_cast<float>(h.imag())};
 }
 
 void ChannelMatrix::recompute(std::size_t i) {

@@ -1,5 +1,6 @@
 #include "rfsitl/channel/link_budget.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -9,16 +10,32 @@ LinkBudget::LinkBudget(double fixed_gain_db, std::vector<std::unique_ptr<GainSta
     : fixed_gain_db_(fixed_gain_db),
       // pow(10, 0) is exactly 1: at 0 dBm the paper's coefficients come out
       // bit for bit as its formula gives them.
-      fixed_amplitude_(std::pow(10.0, fixed_gain_db / 20.0)),
-      stages_(std::move(stages)) {
-  for (const auto& s : stages_) reciprocal_ = reciprocal_ && s->reciprocal();
+      fixed_amplitude_(std::pow(10.0, fixed_gain_db / 20.0)) {
+  // Gains commute, so splitting the chain by kind changes no product.
+  for (auto& s : stages) {
+    if (s->time_varying()) {
+      const double dt = s->update_interval_s();
+      update_interval_s_ = update_interval_s_ == 0.0 ? dt : std::min(update_interval_s_, dt);
+      fading_.push_back(std::move(s));
+    } else {
+      reciprocal_ = reciprocal_ && s->reciprocal();
+      depends_on_attitude_ = depends_on_attitude_ || s->depends_on_attitude();
+      large_scale_.push_back(std::move(s));
+    }
+  }
 }
 
 cf32 LinkBudget::coefficient(const LinkGeometry& link) const {
   std::complex<double> c = fixed_amplitude_;
-  for (const auto& s : stages_) c *= s->gain(link);
+  for (const auto& s : large_scale_) c *= s->gain(link);
   // Evaluated in double and rounded once.
   return {static_cast<float>(c.real()), static_cast<float>(c.imag())};
+}
+
+std::complex<double> LinkBudget::fading(const LinkGeometry& link) const {
+  std::complex<double> h = 1.0;
+  for (const auto& s : fading_) h *= s->gain(link);
+  return h;
 }
 
 }  // namespace rfsitl::channel

@@ -103,4 +103,24 @@ void mix(std::span<const cf32* const> inputs, std::span<const cf32> coeffs, std:
   if (!written) std::fill(out.begin(), out.end(), cf32{0.0F, 0.0F});
 }
 
+void mix_ramped_add(std::span<const cf32* const> inputs, std::span<const cf32> start,
+                    std::span<const cf32> step, std::span<cf32> out) {
+  assert(inputs.size() == start.size() && inputs.size() == step.size());
+  // Link by link: the ramps are short (one grid interval) and the links few
+  // (those of active transmitters), so the plain loop is what GCC vectorizes.
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const float* __restrict x = reinterpret_cast<const float*>(inputs[i]);
+    float* __restrict y = reinterpret_cast<float*>(out.data());
+    const float c0r = start[i].real(), c0i = start[i].imag();
+    const float dr = step[i].real(), di = step[i].imag();
+    for (std::size_t t = 0; t < out.size(); ++t) {
+      const auto tf = static_cast<float>(t);
+      const float cr = c0r + tf * dr;
+      const float ci = c0i + tf * di;
+      y[2 * t] += cr * x[2 * t] - ci * x[2 * t + 1];
+      y[2 * t + 1] += cr * x[2 * t + 1] + ci * x[2 * t];
+    }
+  }
+}
+
 }  // namespace rfsitl::channel

@@ -11,10 +11,9 @@
 #include "event_reporter.hpp"
 #include "mobility_driver.hpp"
 #include "node_state_inbox.hpp"
+#include "rfsitl/channel/channel.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
-#include "rfsitl/channel/mixer.hpp"
-#include "rfsitl/channel/noise_source.hpp"
 #include "rfsitl/common/spsc_ring.hpp"
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/engine/tick_clock.hpp"
@@ -25,18 +24,6 @@
 
 namespace rfsitl::engine {
 namespace {
-
-/// Receiver front-end gain reference: the receiver scales its input so that the
-/// thermal noise floor has unit power, as a radio's fixed gain stage puts the
-/// noise floor well above its ADC's quantization. It matters because liquid's
-/// detectors have an absolute floor near -100 dBFS, while the paper's path loss
-/// puts signals far below that. Without noise, the gain is that of a -120 dB floor.
-double front_end_gain(double noise_variance) {
-  return 1.0 / std::sqrt(noise_variance > 0.0 ? noise_variance : 1e-12);
-}
-
-/// The noise stream of channel.shared_noise: not a receiver's index.
-constexpr std::uint64_t kSharedNoiseStream = std::uint64_t{1} << 32;
 
 /// A frame waiting in a node's TX queue. It may start at the first tick that
 /// begins at or after `not_before`, the virtual time at which it arrived.
@@ -66,10 +53,8 @@ struct Node : phy::RxHandler {
   // Set by the TX phase when a frame starts this tick; consumed serially.
   std::optional<std::pair<std::uint32_t, NetFrame>> started;
   std::size_t started_len = 0;
-  SampleTime frame_end = 0;  // end of the latest frame this node started
-  std::optional<channel::NoiseSource> noise;
-  std::vector<const cf32*> mix_inputs;
-  std::vector<cf32> mix_coeffs;
+  SampleTime frame_end = 0;           // end of the latest frame this node started
+  channel::Channel::Scratch scratch;  // this receiver's, for the channel's receive()
   std::vector<Decoded> decoded;
   /// kWatched: the receiver is idle (skipped) but an observer wants its input,
   /// so the input is computed and the receiver is not run: watching changes no
@@ -93,8 +78,10 @@ class LockStepEngine final : public Engine {
       : scenario_(s),
         sink_(sink),
         block_(s.timing.tick_samples),
-        gain_(front_end_gain(s.channel.noise_variance)),
-        channel_(s.nodes.size(), scenario::make_link_budget(s), s.channel.origin),
+        air_(s.nodes.size(), scenario::make_link_budget(s), s.channel.origin,
+             channel::ChannelConfig{s.channel.noise_variance, s.channel.shared_noise, s.seed,
+                                    s.timing.sample_rate_hz, s.timing.tick_samples}),
+        channel_(air_.matrix()),
         counters_(s.nodes.size()),
         clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
                s.timing.mode == scenario::TimeMode::kRealTime),
@@ -124,21 +111,15 @@ class LockStepEngine final : public Engine {
       node.queue = std::make_unique<SpscRing<QueuedFrame>>(phy.tx_queue_frames);
       node.tx.assign(block_, cf32{});
       node.rx.assign(block_, cf32{});
-      node.mix_inputs.reserve(n);
+      node.scratch.inputs.reserve(n);
+      node.scratch.coeffs.reserve(n);
       active_.reserve(n);
+      active_tx_.reserve(n);
       runnable_.reserve(n);
-      node.mix_coeffs.reserve(n);
       node.decoded.reserve(8);
-      if (!s.channel.shared_noise && s.channel.noise_variance > 0.0) {
-        node.noise.emplace(s.seed, i, unit_noise_variance());
-      }
       if (s.nodes[i].initial_position) {
         channel_.set_position(i, channel::to_ecef(*s.nodes[i].initial_position, s.channel.origin));
       }
-    }
-    if (s.channel.shared_noise && s.channel.noise_variance > 0.0) {
-      shared_noise_.emplace(s.seed, kSharedNoiseStream, unit_noise_variance());
-      shared_noise_buf_.assign(block_, cf32{});
     }
     std::vector<double> sensitivity;
     std::size_t latency = 0;
@@ -270,10 +251,6 @@ class LockStepEngine final : public Engine {
     return std::clamp<std::size_t>(std::max(wanted, remote), 1, s.nodes.size());
   }
 
-  float unit_noise_variance() const {
-    return static_cast<float>(scenario_.channel.noise_variance * gain_ * gain_);
-  }
-
   /// Scenario traffic enters its node's queue at the first tick boundary at or
   /// after its scheduled time.
   void inject_traffic() {
@@ -292,14 +269,33 @@ class LockStepEngine final : public Engine {
 
   void apply_positions() {
     const double now_s = static_cast<double>(now_) / scenario_.timing.sample_rate_hz;
-    if (inbox_.apply(now_s, channel_)) geometry_stale_ = true;
+    channel_.set_clock(now_s);
+    bool moved = inbox_.apply(now_s, channel_);
     // After the feeds: a modelled node follows its model again at each update.
-    if (mobility_.update(now_, channel_, [this](std::size_t node, const position::Velocity& v) {
-          inbox_.set_motion(node, {v, std::nullopt});
-        })) {
+    moved = mobility_.update(now_, channel_, [this](std::size_t node, const position::Velocity& v) {
+      inbox_.set_motion(node, {v, std::nullopt});
+    }) || moved;
+    const bool turned = inbox_.motion_changed();
+    if (moved || turned) {
       geometry_stale_ = true;
+      // Fading follows each node along its velocity between updates; antennas
+      // turn with their bodies.
+      if (channel_.time_varying() || channel_.depends_on_attitude()) copy_motions();
     }
     if (geometry_stale_ && now_ >= next_geometry_copy_) publish_geometry();
+  }
+
+  void copy_motions() {
+    const std::vector<position::NodeMotion> motions = inbox_.motions();
+    for (std::size_t i = 0; i < motions.size(); ++i) {
+      const position::Velocity v = motions[i].velocity.value_or(position::Velocity{});
+      channel_.set_velocity(i, {v.vx_mps, v.vy_mps, v.vz_mps});
+      std::optional<channel::Orientation> attitude;
+      if (const auto& a = motions[i].attitude) {
+        attitude = channel::Orientation{a->roll_rad, a->pitch_rad, a->yaw_rad};
+      }
+      channel_.set_attitude(i, attitude);
+    }
   }
 
   /// Copies positions and link gains for other threads (the dashboard). An
@@ -338,7 +334,7 @@ class LockStepEngine final : public Engine {
     }
     record_transmissions();
     plan_receivers();
-    if (shared_noise_ && !runnable_.empty()) shared_noise_->fill(shared_noise_buf_, now_);
+    air_.begin_tick(now_, !runnable_.empty());
     // Receivers that run are dealt round-robin to the workers: balanced whatever
     // their indices are. A few receivers that only hear noise (run because
     // skipping is off or someone watches them) cost less than waking the workers.
@@ -385,9 +381,13 @@ class LockStepEngine final : public Engine {
   /// lists this tick's transmitters (in index order, so mixing order is fixed).
   void record_transmissions() {
     active_.clear();
+    active_tx_.clear();
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       Node& node = nodes_[i];
-      if (node.active) active_.push_back(i);
+      if (node.active) {
+        active_.push_back(i);
+        active_tx_.push_back({i, node.tx.data()});
+      }
       if (node.started) {
         const auto& [serial, frame] = *node.started;
         node.frame_end = now_ + static_cast<SampleTime>(node.started_len);
@@ -471,23 +471,8 @@ class LockStepEngine final : public Engine {
     const std::size_t first = first_receive_sample(node);
     const std::size_t len = block_ - first;
     if (node.watched) std::fill_n(node.rx.begin(), first, cf32{});  // blanked: zeros
-    node.mix_inputs.clear();
-    node.mix_coeffs.clear();
-    const auto row = channel_.receiver_row(m);
-    const float g = static_cast<float>(gain_);
-    for (const std::size_t n : active_) {
-      if (n != m && row[n] != cf32{}) {
-        node.mix_inputs.push_back(nodes_[n].tx.data() + first);
-        node.mix_coeffs.push_back(row[n] * g);
-      }
-    }
     const std::span<cf32> y(node.rx.data() + first, len);
-    channel::mix(node.mix_inputs, node.mix_coeffs, y);
-    if (node.noise) {
-      node.noise->add_to(y, static_cast<std::uint64_t>(now_) + first);
-    } else if (shared_noise_) {
-      for (std::size_t t = 0; t < len; ++t) y[t] += shared_noise_buf_[first + t];
-    }
+    air_.receive(m, active_tx_, now_, first, y, node.scratch);
     if (run) node.radio->receive(y, node);
   }
 
@@ -542,13 +527,14 @@ class LockStepEngine final : public Engine {
   scenario::Scenario scenario_;
   FrameSink& sink_;
   std::size_t block_;
-  double gain_;
-  channel::ChannelMatrix channel_;
+  channel::Channel air_;
+  channel::ChannelMatrix& channel_;  // air_'s links
   std::vector<NodeCounters> counters_;
   std::vector<Node> nodes_;
-  std::vector<std::size_t> active_;    // transmitters of the current tick
-  std::vector<std::size_t> runnable_;  // receivers that run in the current tick
-  std::size_t busy_receivers_ = 0;     // of those, the ones with more than noise to do
+  std::vector<std::size_t> active_;               // transmitters of the current tick
+  std::vector<channel::Transmission> active_tx_;  // the same, with their samples
+  std::vector<std::size_t> runnable_;             // receivers that run in the current tick
+  std::size_t busy_receivers_ = 0;                // of those, the ones with more than noise to do
   static constexpr std::size_t kSerialTxLimit = 2;
   static constexpr std::size_t kSerialNoiseOnlyLimit = 8;
   std::vector<std::size_t> tx_order_;  // remote transceivers first, then the others
@@ -557,8 +543,6 @@ class LockStepEngine final : public Engine {
   std::optional<FrameLedger> ledger_;
   TickClock clock_;
   WorkerPool pool_;
-  std::optional<channel::NoiseSource> shared_noise_;
-  std::vector<cf32> shared_noise_buf_;
   TrafficSchedule traffic_;
   MobilityDriver mobility_;
   SampleTime now_ = 0;

@@ -18,6 +18,7 @@ void NodeStateInbox::set_motion(std::size_t node, const position::NodeMotion& mo
   std::lock_guard lock(motions_mutex_);
   if (motion.velocity) motions_[node].velocity = motion.velocity;
   if (motion.attitude) motions_[node].attitude = motion.attitude;
+  motion_dirty_.store(true, std::memory_order_release);
 }
 
 std::vector<position::NodeMotion> NodeStateInbox::motions() const {

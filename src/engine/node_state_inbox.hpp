@@ -27,6 +27,9 @@ class NodeStateInbox {
   /// Any thread: the parts of `motion` that are set replace the node's.
   void set_motion(std::size_t node, const position::NodeMotion& motion);
 
+  /// Engine thread: whether set_motion was called since the last call.
+  bool motion_changed() { return motion_dirty_.exchange(false, std::memory_order_acq_rel); }
+
   /// Any thread: every node's velocity and attitude.
   std::vector<position::NodeMotion> motions() const;
 
@@ -44,6 +47,7 @@ class NodeStateInbox {
   std::mutex pending_mutex_;
   std::vector<std::optional<Pending>> pending_;
   std::atomic<bool> dirty_{false};
+  std::atomic<bool> motion_dirty_{false};
   std::vector<position::VelocityEstimator> estimators_;  // engine thread only
   mutable std::mutex motions_mutex_;
   std::vector<position::NodeMotion> motions_;

@@ -6,7 +6,8 @@
 // src/channel/stages/ (with a CMakeLists.txt building rfsitl_stage_<folder>)
 // that defines `ChannelStageComponent <folder>_component()`, and the folder's
 // name here.
-#define RFSITL_CHANNEL_STAGES(X) X(path_loss) X(shadowing)
+#define RFSITL_CHANNEL_STAGES(X) \
+  X(path_loss) X(shadowing) X(fading) X(antenna) X(occlusion) X(trace)
 
 namespace rfsitl::channel {
 

@@ -31,6 +31,7 @@
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
+#include "rfsitl/scenario/link_budget_of.hpp"
 #include "scenario_rules.hpp"
 #include "yaml_reading.hpp"
 
@@ -226,7 +227,22 @@ Scenario read_scenario(Context& c, const YAML::Node& root) {
 
 }  // namespace
 
-Scenario parse_scenario(std::string_view yaml_text, const std::string& source) {
+namespace {
+
+// The data files of channel stages (antenna patterns, traces) are read here,
+// once, so that a broken one is refused at load with its own line.
+void check_stage_files(const Scenario& s, const Context& c) {
+  for (std::size_t i = 0; i < s.channel.stages.size(); ++i) {
+    try {
+      (void)make_stage(s, i);
+    } catch (const std::invalid_argument& e) {
+      c.fail("channel.stages[" + std::to_string(i) + "]", e.what());
+    }
+  }
+}
+
+Scenario parse_in(std::string_view yaml_text, const std::string& source,
+                  const std::string& source_dir) {
   YAML::Node root;
   try {
     root = YAML::Load(std::string(yaml_text));
@@ -237,8 +253,16 @@ Scenario parse_scenario(std::string_view yaml_text, const std::string& source) {
   }
   Context context(source);
   Scenario s = read_scenario(context, root);
+  s.source_dir = source_dir;
   validate(s, context);
+  check_stage_files(s, context);
   return s;
+}
+
+}  // namespace
+
+Scenario parse_scenario(std::string_view yaml_text, const std::string& source) {
+  return parse_in(yaml_text, source, "");
 }
 
 Scenario load_scenario_file(const std::string& path) {
@@ -258,9 +282,7 @@ Scenario load_scenario_file(const std::string& path) {
     }
   }
   if (std::ferror(file.get())) throw unreadable();  // e.g. a directory: EISDIR
-  Scenario s = parse_scenario(contents, path);
-  s.source_dir = std::filesystem::path(path).parent_path().string();
-  return s;
+  return parse_in(contents, path, std::filesystem::path(path).parent_path().string());
 }
 
 void validate_scenario(const Scenario& s) {

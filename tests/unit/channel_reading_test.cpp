@@ -2,8 +2,12 @@
 // budget the engine uses, and every mistake refused at load with its line.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <complex>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 
@@ -165,6 +169,28 @@ TEST(ChannelErrors, ARadioSettingOutOfRangeNamesItsLine) {
   EXPECT_NE(e.find("t.yaml:6: radio.tx_power_dbm: must be in [-100, 60], got 100"),
             std::string::npos)
       << e;
+}
+
+TEST(ChannelErrors, ABrokenDataFileIsRefusedAtLoadWithItsOwnLine) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("rfsitl-broken-pattern-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "bad.csv") << "el\\az,0,180\n-90,0,0\n90,0,x\n";
+    std::ofstream(dir / "s.yaml") << kNodes
+                                  << "channel:\n  stages:\n    - {type: path_loss}\n"
+                                     "    - {type: antenna, pattern: file, file: bad.csv}\n";
+  }
+  std::string e;
+  try {
+    load_scenario_file((dir / "s.yaml").string());
+  } catch (const ScenarioError& err) {
+    e = err.what();
+  }
+  std::filesystem::remove_all(dir);
+  // The scenario's line and key, then the data file's own line.
+  EXPECT_NE(e.find("s.yaml:7: channel.stages[1]: "), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.csv:3"), std::string::npos) << e;
 }
 
 TEST(ChannelErrors, ValidationChecksStagesOfAScenarioBuiltInCode) {

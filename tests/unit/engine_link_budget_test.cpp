@@ -42,5 +42,45 @@ TEST(EngineLinkBudget, AFarLinkLosesEveryFrameBelowSensitivity) {
   EXPECT_EQ(r.lost(0, engine::LossReason::kBelowSensitivity), 5U);  // counted at the sender
 }
 
+/// Node 2 circles node 1 at 4 km and 20 m/s (a 160 Hz Doppler at 2.4 GHz):
+/// a mean SNR of 14.9 dB, 10 dB above GMSK's sensitivity, with 200 frames.
+scenario::Scenario orbiting_pair(const std::string& extra_stage, unsigned threads) {
+  const std::string yaml =
+      "time: {mode: virtual, duration_s: 2.1, sample_rate_hz: 1e6, tick_samples: 1000}\n"
+      "radio: {carrier_hz: 2.4e9, tx_power_dbm: 20, noise_figure_db: 7}\n"
+      "channel:\n  stages: [{type: path_loss, model: free_space}" +
+      extra_stage +
+      "]\n"
+      "engine: {threads: " +
+      std::to_string(threads) +
+      "}\n"
+      "nodes:\n  - {id: 1, position: {x: 0, y: 0, z: 10}}\n"
+      "  - {id: 2, mobility: {type: orbit, radius_m: 4000, speed_mps: 20, altitude_m: 10}}\n"
+      "traffic:\n  - {at_s: 0.002, src: 1, dst: 2, size_bytes: 60, repeat: 200, interval_s: "
+      "0.01}\n";
+  return scenario::parse_scenario(yaml, "fading.yaml");
+}
+
+TEST(EngineFading, RayleighFadingLosesFramesThatTheSameMeanSnrWouldDeliver) {
+  const RunResult flat = run_engine(orbiting_pair("", 2));
+  EXPECT_EQ(flat.counters[1].received, 200U);
+  // In Rayleigh fading the SNR is below the mean by 10 dB or more a tenth of
+  // the time (1 - exp(-0.1)): frames are lost, but most arrive.
+  const RunResult faded = run_engine(orbiting_pair(", {type: fading, model: rayleigh}", 2));
+  const std::uint64_t got = faded.counters[1].received;
+  EXPECT_GT(got, 120U);
+  EXPECT_LT(got, 199U);
+  // A loss in a fade is the receiver's, not the mean budget's.
+  EXPECT_EQ(faded.lost(0, engine::LossReason::kBelowSensitivity), 0U);
+  EXPECT_EQ(faded.lost(0, engine::LossReason::kDecodeFailure), 200U - got);
+}
+
+TEST(EngineFading, TheOutcomeIsTheSameWithAnyThreadCount) {
+  const std::string rician = ", {type: fading, model: rician, k_db: 3}";
+  const RunResult one = run_engine(orbiting_pair(rician, 1));
+  const RunResult three = run_engine(orbiting_pair(rician, 3));
+  expect_same_outcome(one, three);
+}
+
 }  // namespace
 }  // namespace rfsitl::testing

@@ -142,5 +142,32 @@ TEST(Mixer, MoreInputsThanOneKernelGroupAreAllSummed) {
   }
 }
 
+TEST(Mixer, RampedCoefficientsAddTheirLinearInterpolationToTheOutput) {
+  // Two inputs whose coefficients ramp from `start` by `step` per sample,
+  // added onto an output that already holds something.
+  const std::size_t n = 37;
+  std::vector<cf32> x0(n), x1(n), out(n, cf32{0.5F, -0.25F});
+  for (std::size_t t = 0; t < n; ++t) {
+    const auto tf = static_cast<float>(t);
+    x0[t] = {std::cos(0.3F * tf), std::sin(0.3F * tf)};
+    x1[t] = {0.1F * tf, -1.0F};
+  }
+  const std::array<const cf32*, 2> inputs{x0.data(), x1.data()};
+  const std::array<cf32, 2> start{cf32{1.0F, 0.0F}, cf32{0.0F, 2.0F}};
+  const std::array<cf32, 2> step{cf32{-0.01F, 0.02F}, cf32{0.03F, 0.0F}};
+  mix_ramped_add(inputs, start, step, out);
+  for (std::size_t t = 0; t < n; ++t) {
+    const std::complex<double> c0 =
+        std::complex<double>(1.0, 0.0) + double(t) * std::complex<double>(-0.01, 0.02);
+    const std::complex<double> c1 =
+        std::complex<double>(0.0, 2.0) + double(t) * std::complex<double>(0.03, 0.0);
+    const std::complex<double> want = std::complex<double>(0.5, -0.25) +
+                                      c0 * std::complex<double>(x0[t]) +
+                                      c1 * std::complex<double>(x1[t]);
+    EXPECT_NEAR(out[t].real(), want.real(), 1e-4) << t;
+    EXPECT_NEAR(out[t].imag(), want.imag(), 1e-4) << t;
+  }
+}
+
 }  // namespace
 }  // namespace rfsitl::channel

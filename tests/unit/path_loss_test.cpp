@@ -36,7 +36,7 @@ std::unique_ptr<GainStage> stage(const std::string& model, double carrier_hz = 2
   s.set("model", model);
   if (tweak != nullptr) tweak(s);
   c->info.validate(s);
-  return c->make(s, StageContext{carrier_hz, 1, 0, ""});
+  return c->make(s, StageContext{carrier_hz, 1, 0, "", {}});
 }
 
 double gain_db(const GainStage& st, const LinkGeometry& g) {

@@ -17,8 +17,16 @@
 #include "rfsitl/config/settings.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
 
+#include "stage_test_support.hpp"
+
 namespace rfsitl::channel {
 namespace {
+
+using rfsitl::testing::link;
+
+using rfsitl::testing::kolmogorov_p_value;
+using rfsitl::testing::ks_statistic;
+using rfsitl::testing::refused_key;
 
 LinkEnd end(std::size_t index, double x_m, double y_m, double z_m) {
   LinkEnd e;
@@ -34,23 +42,13 @@ LinkEnd moved(LinkEnd e, double dx_m, double dy_m, double dz_m) {
   return e;
 }
 
-LinkGeometry link(const LinkEnd& tx, const LinkEnd& rx) {
-  LinkGeometry g;
-  g.tx = tx;
-  g.rx = rx;
-  g.distance_m = std::hypot(tx.local.x_m - rx.local.x_m, tx.local.y_m - rx.local.y_m,
-                            tx.local.z_m - rx.local.z_m);
-  g.horizontal_m = std::hypot(tx.local.x_m - rx.local.x_m, tx.local.y_m - rx.local.y_m);
-  return g;
-}
-
 /// The registered stage with settings `s`, checked as a scenario's are.
 std::unique_ptr<GainStage> make_stage(const config::Settings& s, std::uint64_t scenario_seed,
                                       std::size_t position = 0) {
   const ChannelStageComponent* c = find_channel_stage("shadowing");
   EXPECT_NE(c, nullptr);
   c->info.validate(s);
-  return c->make(s, StageContext{2.4e9, scenario_seed, position, ""});
+  return c->make(s, StageContext{2.4e9, scenario_seed, position, "", {}});
 }
 
 config::Settings settings_with(double sigma_db, std::uint64_t seed = 0) {
@@ -64,32 +62,12 @@ double standard_normal_cdf(double x) {
   return 0.5 * std::erfc(-x / std::numbers::sqrt2);
 }
 
-/// P(D_n >= d) for the Kolmogorov-Smirnov statistic of n samples, by the
-/// asymptotic Kolmogorov law Q(l) = 2 sum_k (-1)^(k-1) exp(-2 k^2 l^2) with
-/// Stephens' small-sample correction l = (sqrt n + 0.12 + 0.11 / sqrt n) d.
-double kolmogorov_p_value(double d, std::size_t n) {
-  const double root_n = std::sqrt(static_cast<double>(n));
-  const double l = (root_n + 0.12 + 0.11 / root_n) * d;
-  if (l < 0.2) return 1.0;  // the series converges slowly there; p is 1 to 1e-9
-  double q = 0.0;
-  for (int k = 1; k <= 100; ++k) {
-    const double term = std::exp(-2.0 * k * k * l * l);
-    q += (k % 2 == 1 ? 2.0 : -2.0) * term;
-    if (term < 1e-16) break;
-  }
-  return std::clamp(q, 0.0, 1.0);
-}
-
 /// sup_x |F_n(x) - Phi(x)| for the samples `z` (in units of sigma).
 double ks_statistic_against_normal(std::vector<double> z) {
   std::sort(z.begin(), z.end());
-  const auto n = static_cast<double>(z.size());
-  double d = 0.0;
-  for (std::size_t i = 0; i < z.size(); ++i) {
-    const double f = standard_normal_cdf(z[i]);
-    d = std::max({d, static_cast<double>(i + 1) / n - f, f - static_cast<double>(i) / n});
-  }
-  return d;
+  std::vector<double> cdf;
+  for (const double x : z) cdf.push_back(standard_normal_cdf(x));
+  return ks_statistic(cdf);
 }
 
 // ---- (1) the marginal: N(0, sigma^2) over links -------------------------------------------
@@ -260,26 +238,14 @@ TEST(Shadowing, IsRegisteredWithItsDeclaredDefaults) {
   EXPECT_NO_THROW(c->info.validate(d));
 }
 
-std::string refused_key(const std::string& key, const config::Value& value) {
-  const ChannelStageComponent* c = find_channel_stage("shadowing");
-  config::Settings s = c->info.defaults();
-  s.set(key, value);
-  try {
-    c->info.validate(s);
-  } catch (const config::SettingError& e) {
-    return e.key();
-  }
-  return "(accepted)";
-}
-
 TEST(Shadowing, RefusesSettingsOutOfRangeNamingTheKey) {
-  EXPECT_EQ(refused_key("sigma_db", 30.5), "sigma_db");
-  EXPECT_EQ(refused_key("sigma_db", -1.0), "sigma_db");
-  EXPECT_EQ(refused_key("decorrelation_m", 0.05), "decorrelation_m");
-  EXPECT_EQ(refused_key("decorrelation_m", 2e5), "decorrelation_m");
-  EXPECT_EQ(refused_key("sinusoids", std::uint64_t{3}), "sinusoids");
-  EXPECT_EQ(refused_key("sinusoids", std::uint64_t{1025}), "sinusoids");
-  EXPECT_EQ(refused_key("sinusoids", std::uint64_t{1024}), "(accepted)");
+  EXPECT_EQ(refused_key("shadowing", "sigma_db", 30.5), "sigma_db");
+  EXPECT_EQ(refused_key("shadowing", "sigma_db", -1.0), "sigma_db");
+  EXPECT_EQ(refused_key("shadowing", "decorrelation_m", 0.05), "decorrelation_m");
+  EXPECT_EQ(refused_key("shadowing", "decorrelation_m", 2e5), "decorrelation_m");
+  EXPECT_EQ(refused_key("shadowing", "sinusoids", std::uint64_t{3}), "sinusoids");
+  EXPECT_EQ(refused_key("shadowing", "sinusoids", std::uint64_t{1025}), "sinusoids");
+  EXPECT_EQ(refused_key("shadowing", "sinusoids", std::uint64_t{1024}), "(accepted)");
 }
 
 }  // namespace

@@ -160,7 +160,7 @@ std::unique_ptr<GainStage> stage(const std::string& model, const std::string& lo
   s.set("model", model);
   s.set("los", los);
   c->info.validate(s);
-  return c->make(s, StageContext{kFc, seed, position, ""});
+  return c->make(s, StageContext{kFc, seed, position, "", {}});
 }
 
 double loss_db(const GainStage& st, const LinkGeometry& g) {

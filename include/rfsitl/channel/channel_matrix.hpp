@@ -41,6 +41,36 @@ class ChannelMatrix {
   /// Distance in metres, or nullopt when either position is unknown.
   std::optional<double> distance(std::size_t a, std::size_t b) const;
 
+  // ---- time-varying stages (fading) ---------------------------------------------
+
+  /// True when the chain has time-varying stages: a link's coefficient then
+  /// changes between position updates (coefficient_at).
+  bool time_varying() const { return budget_->time_varying(); }
+
+  /// True when some stage depends on the nodes' attitudes.
+  bool depends_on_attitude() const { return budget_->depends_on_attitude(); }
+
+  /// The grid on which time-varying gains are computed, seconds (0: none).
+  double update_interval_s() const { return budget_->update_interval_s(); }
+
+  /// The virtual time, seconds, with which set_position stamps positions.
+  void set_clock(double now_s) { clock_s_ = now_s; }
+
+  /// Node `i`'s velocity (local east/north/up, m/s), along which its position
+  /// is extrapolated for time-varying stages. Starts at zero.
+  void set_velocity(std::size_t i, const LocalVelocity& v) { velocity_.at(i) = v; }
+
+  /// Node `i`'s attitude (nullopt: never reported), for stages that depend on
+  /// where a body points (antennas, airframe occlusion); recomputes its row
+  /// and column when the chain has such a stage.
+  void set_attitude(std::size_t i, const std::optional<Orientation>& a);
+
+  /// The coefficient of the link tx -> rx at virtual time t_s: coefficient()
+  /// times the time-varying stages' gains with both ends extrapolated from
+  /// their last positions along their velocities. Thread-safe against other
+  /// const calls.
+  cf32 coefficient_at(std::size_t tx, std::size_t rx, double t_s) const;
+
  private:
   void recompute(std::size_t i);
   LinkGeometry geometry(std::size_t tx, std::size_t rx) const;
@@ -50,7 +80,11 @@ class ChannelMatrix {
   GeodeticPosition origin_;
   std::vector<std::optional<Ecef>> positions_;
   std::vector<LocalPosition> local_;  // of the nodes with a position
-  std::vector<cf32> coeff_;           // row-major by receiver: coeff_[rx * n + tx]
+  std::vector<LocalVelocity> velocity_;
+  std::vector<std::optional<Orientation>> attitude_;
+  std::vector<double> stamp_s_;  // when each position was set
+  double clock_s_ = 0.0;
+  std::vector<cf32> coeff_;  // row-major by receiver: coeff_[rx * n + tx]
 };
 
 }  // namespace rfsitl::channel

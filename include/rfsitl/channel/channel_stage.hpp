@@ -3,16 +3,19 @@
 /// own declared settings, registered by name (registry/channel_stage_registry.hpp)
 /// and listed in the scenario's `channel.stages`, applied in that order.
 ///
-/// Today's stages are large-scale: each gives every link a complex amplitude
-/// factor from the link's geometry (path loss, shadowing, antennas, occlusion).
-/// A chain of them multiplies, so their gains in dB add (link_budget.hpp).
+/// Each stage gives every link a complex amplitude factor from the link's
+/// geometry: large-scale stages (path loss, shadowing, antennas, occlusion)
+/// when a node moves, time-varying ones (fading) on a finer grid in time. A
+/// chain of them multiplies, so their gains in dB add (link_budget.hpp).
 #include <complex>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rfsitl/channel/link_geometry.hpp"
+#include "rfsitl/common/types.hpp"
 #include "rfsitl/config/component_info.hpp"
 #include "rfsitl/config/settings.hpp"
 
@@ -31,14 +34,30 @@ class GainStage {
   /// True when every link has the gain of its reverse (the matrix then
   /// evaluates each pair once). Antennas that point somewhere are not.
   virtual bool reciprocal() const { return true; }
+
+  /// False (large-scale stages): the gain is evaluated when a node moves and
+  /// held until the next move. True (fast fading): the gain changes as the
+  /// ends move by fractions of a wavelength, so it is evaluated on a grid of
+  /// update_interval_s() with each end's position extrapolated along its
+  /// velocity, and interpolated linearly between grid points.
+  virtual bool time_varying() const { return false; }
+
+  /// Time-varying stages: the grid's spacing in seconds (well below the
+  /// coherence time).
+  virtual double update_interval_s() const { return 0.0; }
+
+  /// True when the gain depends on the ends' attitudes (antennas, airframe
+  /// occlusion): the matrix then re-evaluates a node's links when it turns.
+  virtual bool depends_on_attitude() const { return false; }
 };
 
 /// What a stage may need beyond its settings.
 struct StageContext {
-  double carrier_hz = 2.4e9;  ///< the radio's carrier (radio.carrier_hz)
-  std::uint64_t seed = 1;     ///< the scenario's seed, for stages with random draws
-  std::size_t position = 0;   ///< the stage's place in channel.stages (keys its random streams)
-  std::string source_dir;     ///< the scenario file's folder: data files are relative to it
+  double carrier_hz = 2.4e9;     ///< the radio's carrier (radio.carrier_hz)
+  std::uint64_t seed = 1;        ///< the scenario's seed, for stages with random draws
+  std::size_t position = 0;      ///< the stage's place in channel.stages (keys its random streams)
+  std::string source_dir;        ///< the scenario file's folder: data files are relative to it
+  std::vector<NodeId> node_ids;  ///< index -> the node's id (data files name nodes by id)
 };
 
 /// A registered stage: its self-description and how to build it from checked

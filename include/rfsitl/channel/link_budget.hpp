@@ -4,6 +4,10 @@
 /// every transmitter, |c|^2 is the received power in mW, so a noise variance in
 /// mW (radio.hpp) gives the SNR. The paper's model is the chain of one stage
 /// (path_loss, model paper) at 0 dBm.
+///
+/// The chain's large-scale stages make coefficient(), held between position
+/// updates; its time-varying stages make fading(), evaluated on a grid in time.
+/// A link's coefficient at a moment is their product.
 #include <complex>
 #include <memory>
 #include <string>
@@ -21,20 +25,36 @@ class LinkBudget {
   /// power plus both antennas' gains); `stages` apply in order.
   LinkBudget(double fixed_gain_db, std::vector<std::unique_ptr<GainStage>> stages);
 
-  /// The coefficient that scales the transmitter's samples at the receiver.
-  /// Thread-safe (const).
+  /// The large-scale coefficient: the fixed gain times every stage that is not
+  /// time-varying. Thread-safe (const).
   cf32 coefficient(const LinkGeometry& link) const;
 
-  /// True when every stage is reciprocal.
+  /// The product of the time-varying stages' gains (1 without any), at the
+  /// ends' positions in `link`. Thread-safe (const).
+  std::complex<double> fading(const LinkGeometry& link) const;
+
+  /// True when every large-scale stage is reciprocal.
   bool reciprocal() const { return reciprocal_; }
+
+  /// True when some large-scale stage depends on the ends' attitudes.
+  bool depends_on_attitude() const { return depends_on_attitude_; }
+
+  /// True when some stage is time-varying.
+  bool time_varying() const { return !fading_.empty(); }
+
+  /// The finest grid the time-varying stages ask for, seconds (0 without any).
+  double update_interval_s() const { return update_interval_s_; }
 
   double fixed_gain_db() const { return fixed_gain_db_; }
 
  private:
   double fixed_gain_db_;
   double fixed_amplitude_;
-  std::vector<std::unique_ptr<GainStage>> stages_;
+  std::vector<std::unique_ptr<GainStage>> large_scale_;
+  std::vector<std::unique_ptr<GainStage>> fading_;
   bool reciprocal_ = true;
+  bool depends_on_attitude_ = false;
+  double update_interval_s_ = 0.0;
 };
 
 }  // namespace rfsitl::channel

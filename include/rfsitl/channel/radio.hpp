@@ -23,6 +23,9 @@ const config::ComponentInfo& radio_info();
 /// Boltzmann's constant, J/K (exact since the 2019 SI).
 inline constexpr double kBoltzmann = 1.380649e-23;
 
+/// The speed of light in vacuum, m/s (exact).
+inline constexpr double kSpeedOfLight = 299792458.0;
+
 /// Thermal noise power in mW over `bandwidth_hz`: k T B times the noise figure.
 /// The simulated noise is white across the sample rate, so B = fs.
 double noise_power_mw(const RadioSettings& r, double bandwidth_hz);

@@ -13,4 +13,10 @@ namespace rfsitl::scenario {
 /// Throws std::invalid_argument when a stage cannot be built.
 std::shared_ptr<const channel::LinkBudget> make_link_budget(const Scenario& s);
 
+/// Stage i of channel.stages, built: its data files (relative to
+/// s.source_dir) read and checked. Throws std::invalid_argument naming the
+/// file and its line when one is broken. (The loader builds each stage once
+/// at load, so that a broken file is refused before anything starts.)
+std::unique_ptr<channel::GainStage> make_stage(const Scenario& s, std::size_t i);
+
 }  // namespace rfsitl::scenario

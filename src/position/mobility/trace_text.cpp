@@ -14,36 +14,6 @@
 
 namespace rfsitl::position::mobility::detail {
 
-std::string_view trim(std::string_view s) {
-  const auto first = s.find_first_not_of(" \t");
-  if (first == std::string_view::npos) return {};
-  return s.substr(first, s.find_last_not_of(" \t") - first + 1);
-}
-
-bool is_blank_or_comment(std::string_view line) {
-  const std::string_view t = trim(line);
-  return t.empty() || t.front() == '#';
-}
-
-std::string quote(std::string_view token) {
-  constexpr std::size_t kMax = 32;
-  std::string out = "'";
-  for (std::size_t i = 0; i < token.size() && i < kMax; ++i) {
-    const char c = token[i];
-    out += (c >= 0x20 && c < 0x7f) ? c : '?';
-  }
-  if (token.size() > kMax) out += "...";
-  return out + "'";
-}
-
-std::optional<double> parse_number(std::string_view token) {
-  double v = 0.0;
-  const char* end = token.data() + token.size();
-  const auto [ptr, ec] = std::from_chars(token.data(), end, v);
-  if (ec != std::errc() || ptr != end || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
-
 std::optional<std::uint32_t> parse_node(std::string_view token) {
   std::uint32_t v = 0;
   const char* end = token.data() + token.size();

@@ -8,38 +8,16 @@
 #include <string_view>
 
 #include "rfsitl/common/position.hpp"
+#include "rfsitl/common/text_lines.hpp"
 #include "rfsitl/position/mobility/trace_parse_result.hpp"
 
 namespace rfsitl::position::mobility::detail {
 
-/// Calls fn(line_number, line) for every line of `text` (1-based, split at
-/// '\n', a trailing '\r' removed).
-template <class Fn>
-void for_each_line(std::string_view text, Fn&& fn) {
-  std::size_t number = 0;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    const std::size_t nl = text.find('\n', start);
-    const std::size_t end = nl == std::string_view::npos ? text.size() : nl;
-    std::string_view line = text.substr(start, end - start);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    fn(++number, line);
-    start = end + 1;
-  }
-}
-
-/// `s` without leading and trailing spaces and tabs.
-std::string_view trim(std::string_view s);
-
-/// True for lines that carry nothing: empty, white space, or a '#' comment.
-bool is_blank_or_comment(std::string_view line);
-
-/// `token` quoted for a message: at most 32 characters, anything but
-/// printable ASCII shown as '?', so a binary file cannot garble the log.
-std::string quote(std::string_view token);
-
-/// The finite number `token` spells in full (no sign '+', no spaces), or nullopt.
-std::optional<double> parse_number(std::string_view token);
+using text::for_each_line;
+using text::is_blank_or_comment;
+using text::parse_number;
+using text::quote;
+using text::trim;
 
 /// The node number `token` spells (decimal, 0..TraceParseResult::kMaxNode), or nullopt.
 std::optional<std::uint32_t> parse_node(std::string_view token);

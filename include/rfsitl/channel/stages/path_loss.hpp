@@ -8,11 +8,10 @@
 
 #include "rfsitl/channel/channel_stage.hpp"
 #include "rfsitl/channel/link_budget.hpp"
+#include "rfsitl/channel/radio.hpp"
 #include "rfsitl/config/fields.hpp"
 
 namespace rfsitl::channel {
-
-inline constexpr double kSpeedOfLight = 299792458.0;  ///< m/s
 
 enum class PathLossModel {
   kPaper,
