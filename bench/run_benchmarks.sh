@@ -2,11 +2,13 @@
 # The benchmark suite: set up, build (release), measure, and write CSV files, PNG
 # plots and summary.md into out/bench/ (the paper's numbers beside ours).
 #
-#   bash bench/run_benchmarks.sh            # full run, about 9 minutes on 2 cores
+#   bash bench/run_benchmarks.sh            # full run, about 9 minutes on 2 cores, plus up
+#                                           # to 3 for fading_per
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity virtual mobility mix dashboard overload" by default; any subset):
+# Stages (STAGES="fig4 fig5 capacity virtual mobility mix dashboard overload fading_per" by
+# default; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
@@ -23,10 +25,15 @@
 #             or silent dashboard viewers: peak memory against a ceiling computed from the
 #             queue bounds, and the books of every frame (bench/overload.py; fails the
 #             stage, not the run, when the ceiling or the books do not hold)
+#   fading_per PER of gmsk and dsss in Rayleigh block fading (the fading stage, the receiver
+#             hopping between frames) against the AWGN curve averaged over Exp(1) SNR, at mean
+#             SNR 0..30 dB, FADING_FRAMES frames per point (rfsitl_fading_per; 160 s of CPU at
+#             20000, run on both cores); CSV, PNG and log in OUT/fading_per/ (fails the stage,
+#             not the run, when a gap exceeds 1 dB)
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
-#   MIX_SECONDS=0.2  OVL_SECONDS=60  PORT_BASE=20000
+#   MIX_SECONDS=0.2  OVL_SECONDS=60  FADING_FRAMES=20000  PORT_BASE=20000
 #   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)
 # Every emulator binds 127.0.0.1, gets its own port range (PORT_BASE + 1000 k) and is
 # always stopped (SIGINT, then SIGKILL after 30 s), also when this script fails.
@@ -37,10 +44,10 @@ T_START=$(date +%s)
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
   D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
-  D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15
+  D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15 D_FADING=2000
 else
   D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAP_S=60
-  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60
+  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000
 fi
 OUT="${OUT:-out/bench}"
 COUNT="${COUNT:-$D_COUNT}"
@@ -53,10 +60,11 @@ MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
 MOB_NODES="${MOB_NODES:-64}"
 MOB_SECONDS="${MOB_SECONDS:-$D_MOB_S}"  # virtual seconds at 10 ms, at 1 ms
 PORT_BASE="${PORT_BASE:-20000}"
-STAGES="${STAGES-fig4 fig5 capacity virtual mobility mix dashboard overload}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity virtual mobility mix dashboard overload fading_per}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 OVL_SECONDS="${OVL_SECONDS:-$D_OVL_S}"
+FADING_FRAMES="${FADING_FRAMES:-$D_FADING}"
 # Architectures of the Fig. 4 CDF. Each name A needs a function fig4_start_A LOG JSON
 # that starts that architecture's emulator with 6 nodes via start_emulator (below) or
 # its own launcher that sets EMU_PID and NET_BASE the same way:
@@ -254,6 +262,9 @@ if stage virtual; then
       --csv "$OUT/virtual_speed.csv"
     # The same with Rayleigh fading on every link, printed beside the flat channel's.
     "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" --fading rayleigh
+    # And a TDL fading channel: propagation delay, TR 38.901 TDL-C taps, each fading.
+    "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" --multipath tdl_c \
+      --fading rayleigh
   done
   mark virtual
 fi
@@ -288,6 +299,18 @@ if stage overload; then
     --csv "$OUT/overload.csv" --log "$OUT/overload_emulator.log" ||
     echo "bench: overload: the ceiling or the books did not hold (see above)"
   mark overload
+fi
+
+if stage fading_per; then
+  echo "== PER in Rayleigh block fading against its reference: gmsk, dsss, $FADING_FRAMES frames" \
+    "per point"
+  mkdir -p "$OUT/fading_per"
+  "$BENCH"/rfsitl_fading_per --frames "$FADING_FRAMES" --csv "$OUT/fading_per/fading_per.csv" |
+    tee "$OUT/fading_per/fading_per.log" ||
+    echo "bench: fading_per: a gap exceeds 1 dB or a run did not finish (see above)"
+  "$PY" scripts/plot_fading_per.py "$OUT/fading_per/fading_per.csv" \
+    -o "$OUT/fading_per/fading_per.png" || echo "bench: fading_per: plot failed"
+  mark fading_per
 fi
 
 # --- report -----------------------------------------------------------------------

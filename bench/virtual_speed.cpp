@@ -5,7 +5,7 @@
 /// traffic, no acks; the same load as rfsitl_swarm_load's pings).
 ///
 ///   rfsitl_virtual_speed [--nodes 15] [--duration 60] [--csv FILE] [--no-skip]
-///                        [--fading rayleigh|rician]
+///                        [--fading rayleigh|rician] [--multipath tdl_a|tdl_b|tdl_c]
 ///
 /// --fading adds that fading stage (its defaults: M = 32, a 10 kHz grid) after
 /// the paper's path loss, so the two speeds compare a flat and a faded channel.
@@ -38,7 +38,8 @@ struct Options {
   std::uint64_t seed = 1;
   unsigned threads = 0;
   bool no_skip = false;
-  std::string fading;  // "": the flat channel
+  std::string fading;     // "": the flat channel
+  std::string multipath;  // "": no delay or multipath stages
   std::string csv;
 };
 
@@ -51,14 +52,25 @@ scenario::Scenario build(const Options& o) {
   s.engine.skip_idle_receivers = !o.no_skip;
   s.engine.stats_interval_s = 0.0;
   s.nodes = scenario::default_formation(o.nodes, s.channel);
-  if (!o.fading.empty()) {
-    const auto* path_loss = channel::find_channel_stage("path_loss");
-    const auto* fading = channel::find_channel_stage("fading");
-    scenario::StageChoice paper{"path_loss", path_loss->info.defaults()};
+  if (!o.fading.empty() || !o.multipath.empty()) {
+    const auto stage = [](const char* type) {
+      return scenario::StageChoice{type, channel::find_channel_stage(type)->info.defaults()};
+    };
+    scenario::StageChoice paper = stage("path_loss");
     paper.settings.set("paper_exponent", s.channel.path_loss_exponent);
-    scenario::StageChoice faded{"fading", fading->info.defaults()};
-    faded.settings.set("model", o.fading);
-    s.channel.stages = {paper, faded};
+    s.channel.stages = {paper};
+    if (!o.multipath.empty()) {
+      // Propagation delay, then the profile's taps (100 ns of delay spread).
+      s.channel.stages.push_back(stage("delay"));
+      scenario::StageChoice taps = stage("multipath");
+      taps.settings.set("profile", o.multipath);
+      s.channel.stages.push_back(taps);
+    }
+    if (!o.fading.empty()) {
+      scenario::StageChoice faded = stage("fading");
+      faded.settings.set("model", o.fading);
+      s.channel.stages.push_back(faded);
+    }
   }
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> within(0.0, 1.0);
@@ -98,6 +110,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "Worker threads (0: one per core)")->capture_default_str();
   app.add_flag("--no-skip", o.no_skip, "Run every receiver every tick");
   app.add_option("--fading", o.fading, "Add a fading stage of this model (rayleigh, rician)");
+  app.add_option("--multipath", o.multipath,
+                 "Add the delay stage and a multipath stage of this profile (tdl_a, tdl_b, tdl_c)");
   app.add_option("--csv", o.csv, "Append one result row to this CSV (header if new)");
   CLI11_PARSE(app, argc, argv);
 
@@ -128,12 +142,14 @@ int main(int argc, char** argv) {
   const double speed = st.virtual_s / wall;
   const auto u = [](std::uint64_t v) { return static_cast<unsigned long long>(v); };
   std::printf(
-      "virtual_speed: nodes=%zu skip=%s fading=%s virtual=%.3f s wall=%.3f s speed=%.2f x real "
+      "virtual_speed: nodes=%zu skip=%s fading=%s multipath=%s virtual=%.3f s wall=%.3f s "
+      "speed=%.2f x real "
       "time; "
       "frames %llu delivered %llu lost %llu (collision %llu, half-duplex %llu) "
       "receiver-ticks run %llu skipped %llu\n",
-      o.nodes, o.no_skip ? "off" : "on", o.fading.empty() ? "none" : o.fading.c_str(), st.virtual_s,
-      wall, speed, u(total.handed_in), u(total.delivered), u(total.lost_total()),
+      o.nodes, o.no_skip ? "off" : "on", o.fading.empty() ? "none" : o.fading.c_str(),
+      o.multipath.empty() ? "none" : o.multipath.c_str(), st.virtual_s, wall, speed,
+      u(total.handed_in), u(total.delivered), u(total.lost_total()),
       u(total.lost[static_cast<std::size_t>(engine::LossReason::kCollision)]),
       u(total.lost[static_cast<std::size_t>(engine::LossReason::kHalfDuplex)]),
       u(st.receiver_ticks_run), u(st.receiver_ticks_skipped));

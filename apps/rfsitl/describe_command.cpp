@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "rfsitl/channel/front_end.hpp"
 #include "rfsitl/channel/radio.hpp"
 #include "rfsitl/config/settings_table.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
@@ -33,6 +34,7 @@ std::vector<const config::ComponentInfo*> all_components() {
   for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
   for (const auto& s : channel::channel_stage_components()) out.push_back(&s.info);
   out.push_back(&channel::radio_info());
+  out.push_back(&channel::front_end_info());
   return out;
 }
 

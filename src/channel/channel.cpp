@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -13,11 +15,18 @@ namespace {
 /// The noise stream of shared_noise: not a receiver's index.
 constexpr std::uint64_t kSharedNoiseStream = std::uint64_t{1} << 32;
 
+/// signal_end_ of a node that never transmitted.
+constexpr SampleTime kNever = std::numeric_limits<SampleTime>::min() / 2;
+
+cf32 to_cf32(std::complex<double> v) {
+  return {static_cast<float>(v.real()), static_cast<float>(v.imag())};
+}
+
 }  // namespace
 
 Channel::Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
                  const GeodeticPosition& origin, const ChannelConfig& config)
-    : matrix_(nodes, std::move(budget), origin),
+    : matrix_(nodes, std::move(budget), origin, config.sample_rate_hz),
       config_(config),
       gain_(1.0 / std::sqrt(config.noise_variance > 0.0 ? config.noise_variance : 1e-12)),
       // Aligned to absolute sample times, so that a coefficient is the same
@@ -28,6 +37,22 @@ Channel::Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
                         : 0),
       noise_(nodes) {
   if (config.tick_samples == 0) throw std::invalid_argument("Channel: tick_samples must be > 0");
+  if (matrix_.dispersive()) {
+    history_.assign(nodes, std::vector<cf32>(config.tick_samples, cf32{}));
+    signal_end_.assign(nodes, kNever);
+  }
+  // Streams 0..N-1 transmit, N..2N-1 receive.
+  for (std::size_t i = 0; i < nodes; ++i) {
+    if (!is_ideal(config.tx_impairments)) {
+      tx_front_.emplace_back(config.tx_impairments, FrontEndSide::kTransmit, config.sample_rate_hz,
+                             config.tick_samples, config.seed, i);
+    }
+    if (!is_ideal(config.rx_impairments)) {
+      rx_front_.emplace_back(config.rx_impairments, FrontEndSide::kReceive, config.sample_rate_hz,
+                             config.tick_samples, config.seed, nodes + i);
+    }
+  }
+  if (!tx_front_.empty()) impaired_.assign(nodes, std::vector<cf32>(config.tick_samples));
   if (config.noise_variance <= 0.0) return;
   const auto unit = static_cast<float>(config.noise_variance * gain_ * gain_);
   if (config.shared_noise) {
@@ -38,78 +63,215 @@ Channel::Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
   }
 }
 
+void Channel::on_air(SampleTime tick_start, std::span<const Transmission> active) {
+  tick_start_ = tick_start;
+  for (FrontEnd& f : rx_front_) f.advance(tick_start);
+  if (!tx_front_.empty()) {
+    for (FrontEnd& f : tx_front_) f.advance(tick_start);
+    impaired_active_.clear();
+    for (const Transmission& t : active) {
+      std::vector<cf32>& x = impaired_[t.node];
+      std::copy_n(t.samples, x.size(), x.begin());
+      tx_front_[t.node].apply(tick_start, x);
+      impaired_active_.push_back({t.node, x.data()});
+    }
+    active = impaired_active_;
+  }
+  active_ = active;
+  if (matrix_.dispersive()) keep_history(tick_start, active);
+}
+
+/// Shifts every transmitter's history by one tick and appends this tick's
+/// samples (zeros if it is silent). A node silent for longer than the history
+/// holds only zeros and is left alone.
+void Channel::keep_history(SampleTime tick_start, std::span<const Transmission> active) {
+  const std::size_t b = config_.tick_samples;
+  if (matrix_.max_lag() > history_len_) {
+    // A link got longer than any before: older samples are zeros (they were
+    // never needed), so the histories grow at their front.
+    const std::size_t grow = matrix_.max_lag() - history_len_;
+    for (auto& h : history_) h.insert(h.begin(), grow, cf32{});
+    history_len_ = matrix_.max_lag();
+  }
+  std::vector<const cf32*>& now = transmitting_;
+  now.assign(history_.size(), nullptr);
+  for (const Transmission& t : active) now.at(t.node) = t.samples;
+  audible_.clear();
+  const SampleTime oldest = tick_start - static_cast<SampleTime>(history_len_);
+  for (std::size_t n = 0; n < history_.size(); ++n) {
+    if (now[n] == nullptr && signal_end_[n] <= oldest) continue;  // all zeros already
+    std::vector<cf32>& h = history_[n];
+    std::memmove(h.data(), h.data() + b, history_len_ * sizeof(cf32));
+    if (now[n] != nullptr) {
+      std::copy_n(now[n], b, h.begin() + static_cast<std::ptrdiff_t>(history_len_));
+      signal_end_[n] = tick_start + static_cast<SampleTime>(b);
+    } else {
+      std::fill(h.begin() + static_cast<std::ptrdiff_t>(history_len_), h.end(), cf32{});
+    }
+    if (signal_end_[n] > oldest) audible_.push_back(n);
+  }
+}
+
 void Channel::begin_tick(SampleTime tick_start, bool receivers_run) {
   if (shared_noise_ && receivers_run) shared_noise_->fill(shared_noise_buf_, tick_start);
 }
 
-void Channel::receive(std::size_t m, std::span<const Transmission> active, SampleTime tick_start,
-                      std::size_t first, std::span<cf32> y, Scratch& s) const {
-  if (grid_samples_ > 0) {
-    mix_fading(m, active, tick_start, first, y, s);
-  } else {
-    s.inputs.clear();
-    s.coeffs.clear();
-    const auto row = matrix_.receiver_row(m);
-    const auto g = static_cast<float>(gain_);
-    for (const Transmission& tx : active) {
-      if (tx.node != m && row[tx.node] != cf32{}) {
-        s.inputs.push_back(tx.samples + first);
-        s.coeffs.push_back(row[tx.node] * g);
-      }
+bool Channel::tail_reaches(std::size_t n, std::size_t m, SampleTime from) const {
+  const LinkResponse& r = matrix_.response(n, m);
+  return !r.lags.empty() && signal_end_[n] + static_cast<SampleTime>(r.lags.back()) > from;
+}
+
+bool Channel::hears_signal(std::size_t m) const {
+  if (!matrix_.dispersive()) {
+    return std::any_of(active_.begin(), active_.end(), [&](const Transmission& t) {
+      return t.node != m && matrix_.coefficient(t.node, m) != cf32{};
+    });
+  }
+  return std::any_of(audible_.begin(), audible_.end(), [&](std::size_t n) {
+    return n != m && matrix_.coefficient(n, m) != cf32{} && tail_reaches(n, m, tick_start_);
+  });
+}
+
+void Channel::receive(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const {
+  if (matrix_.dispersive()) {
+    gather_lags(m, first, s);
+    if (grid_samples_ > 0) {
+      mix_fading_dispersive(m, first, y, s);
+    } else {
+      mix(s.inputs, s.coeffs, y);
     }
-    mix(s.inputs, s.coeffs, y);
+  } else if (grid_samples_ > 0) {
+    mix_fading(m, first, y, s);
+  } else {
+    mix_flat(m, first, y, s);
   }
   if (const auto& noise = noise_[m]) {
-    noise->add_to(y, static_cast<std::uint64_t>(tick_start) + first);
+    noise->add_to(y, static_cast<std::uint64_t>(tick_start_) + first);
   } else if (shared_noise_) {
     for (std::size_t t = 0; t < y.size(); ++t) y[t] += shared_noise_buf_[first + t];
+  }
+  if (!rx_front_.empty()) rx_front_[m].apply(tick_start_ + static_cast<SampleTime>(first), y);
+}
+
+void Channel::mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const {
+  s.inputs.clear();
+  s.coeffs.clear();
+  const auto row = matrix_.receiver_row(m);
+  const auto g = static_cast<float>(gain_);
+  for (const Transmission& tx : active_) {
+    if (tx.node != m && row[tx.node] != cf32{}) {
+      s.inputs.push_back(tx.samples + first);
+      s.coeffs.push_back(row[tx.node] * g);
+    }
+  }
+  mix(s.inputs, s.coeffs, y);
+}
+
+/// The dispersive links that reach m in this tick, one input per lag of their
+/// responses: s.links (the transmitters), s.bases (each lag's samples at the
+/// tick's first sample), and for the static case s.inputs and s.coeffs.
+void Channel::gather_lags(std::size_t m, std::size_t first, Scratch& s) const {
+  s.links.clear();
+  s.bases.clear();
+  s.inputs.clear();
+  s.coeffs.clear();
+  const auto g = static_cast<float>(gain_);
+  const SampleTime from = tick_start_ + static_cast<SampleTime>(first);
+  for (const std::size_t n : audible_) {
+    if (n == m || matrix_.coefficient(n, m) == cf32{} || !tail_reaches(n, m, from)) continue;
+    const LinkResponse& r = matrix_.response(n, m);
+    s.links.push_back(n);
+    const cf32* now = history_[n].data() + history_len_;
+    for (std::size_t k = 0; k < r.lags.size(); ++k) {
+      s.bases.push_back(now - r.lags[k]);
+      s.inputs.push_back(now - r.lags[k] + first);
+      s.coeffs.push_back(r.taps[k] * g);
+    }
   }
 }
 
 /// Time-varying coefficients: computed on the grid (absolute sample times,
 /// every grid_samples_) and ramped linearly between grid points, segment by
 /// segment of the tick.
-void Channel::mix_fading(std::size_t m, std::span<const Transmission> active, SampleTime tick_start,
-                         std::size_t first, std::span<cf32> y, Scratch& s) const {
-  const double fs = config_.sample_rate_hz;
-  const auto g = static_cast<float>(gain_);
-  const auto at = [&](std::size_t k, SampleTime t) {
-    return matrix_.coefficient_at(active[k].node, m, static_cast<double>(t) / fs) * g;
-  };
-  s.links.clear();
-  const auto row = matrix_.receiver_row(m);
-  for (std::size_t k = 0; k < active.size(); ++k) {
-    if (active[k].node != m && row[active[k].node] != cf32{}) s.links.push_back(k);
-  }
+template <typename FillAt>
+void Channel::mix_ramped(std::size_t first, std::span<cf32> y, Scratch& s,
+                         const FillAt& fill_at) const {
   std::fill(y.begin(), y.end(), cf32{});
-  if (s.links.empty()) return;
-  const std::size_t links = s.links.size();
-  const SampleTime start = tick_start + static_cast<SampleTime>(first);
+  const std::size_t inputs = s.bases.size();
+  if (inputs == 0) return;
+  const SampleTime start = tick_start_ + static_cast<SampleTime>(first);
   const SampleTime end = start + static_cast<SampleTime>(y.size());
   const SampleTime u = grid_samples_;
   SampleTime g0 = start - start % u;
-  s.at_next.resize(links);
-  s.ramp_start.resize(links);
-  s.ramp_step.resize(links);
-  s.inputs.resize(links);
+  s.at_next.resize(inputs);
+  s.ramp_start.resize(inputs);
+  s.ramp_step.resize(inputs);
+  s.inputs.resize(inputs);
   std::vector<cf32>& at_g0 = s.coeffs;  // the grid point a segment starts from
-  at_g0.resize(links);
-  for (std::size_t j = 0; j < links; ++j) at_g0[j] = at(s.links[j], g0);
+  at_g0.resize(inputs);
+  fill_at(g0, at_g0);
   const float inv_u = 1.0F / static_cast<float>(u);
   for (; g0 < end; g0 += u) {
     const SampleTime s0 = std::max(g0, start);
     const SampleTime s1 = std::min(g0 + u, end);
-    for (std::size_t j = 0; j < links; ++j) {
-      s.at_next[j] = at(s.links[j], g0 + u);
+    fill_at(g0 + u, s.at_next);
+    for (std::size_t j = 0; j < inputs; ++j) {
       s.ramp_step[j] = (s.at_next[j] - at_g0[j]) * inv_u;
       s.ramp_start[j] = at_g0[j] + s.ramp_step[j] * static_cast<float>(s0 - g0);
-      s.inputs[j] = active[s.links[j]].samples + (s0 - tick_start);
+      s.inputs[j] = s.bases[j] + (s0 - tick_start_);
     }
     mix_ramped_add(
         s.inputs, s.ramp_start, s.ramp_step,
         y.subspan(static_cast<std::size_t>(s0 - start), static_cast<std::size_t>(s1 - s0)));
     std::swap(at_g0, s.at_next);
   }
+}
+
+void Channel::mix_fading(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const {
+  const double fs = config_.sample_rate_hz;
+  const auto g = static_cast<float>(gain_);
+  s.links.clear();
+  s.bases.clear();
+  const auto row = matrix_.receiver_row(m);
+  for (const Transmission& tx : active_) {
+    if (tx.node != m && row[tx.node] != cf32{}) {
+      s.links.push_back(tx.node);
+      s.bases.push_back(tx.samples);
+    }
+  }
+  mix_ramped(first, y, s, [&](SampleTime t, std::vector<cf32>& out) {
+    for (std::size_t j = 0; j < s.links.size(); ++j) {
+      out[j] = matrix_.coefficient_at(s.links[j], m, static_cast<double>(t) / fs) * g;
+    }
+  });
+}
+
+/// Each path fades on its own (LinkGeometry::path); a lag's tap at a grid
+/// point is the sum over paths of gain x fading x the path's filter at that lag.
+void Channel::mix_fading_dispersive(std::size_t m, std::size_t first, std::span<cf32> y,
+                                    Scratch& s) const {
+  const double fs = config_.sample_rate_hz;
+  const double g = gain_;
+  mix_ramped(first, y, s, [&](SampleTime t, std::vector<cf32>& out) {
+    std::size_t at = 0;
+    for (const std::size_t n : s.links) {
+      const LinkResponse& r = matrix_.response(n, m);
+      const std::size_t lags = r.lags.size();
+      s.path_factor.resize(r.path_gains.size());
+      for (std::size_t p = 0; p < r.path_gains.size(); ++p) {
+        s.path_factor[p] =
+            r.path_gains[p] * to_cf32(g * matrix_.fading_at(n, m, static_cast<double>(t) / fs, p));
+      }
+      for (std::size_t k = 0; k < lags; ++k) {
+        cf32 tap{};
+        for (std::size_t p = 0; p < r.path_gains.size(); ++p) {
+          tap += s.path_factor[p] * r.path_filters[p * lags + k];
+        }
+        out[at + k] = tap;
+      }
+      at += lags;
+    }
+  });
 }
 
 }  // namespace rfsitl::channel

@@ -1,15 +1,17 @@
 #include "rfsitl/channel/channel_matrix.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
 
+#include "rfsitl/channel/fractional_delay.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 
 namespace rfsitl::channel {
 
 ChannelMatrix::ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkBudget> budget,
-                             const GeodeticPosition& origin)
+                             const GeodeticPosition& origin, double sample_rate_hz)
     : n_(num_nodes),
       budget_(std::move(budget)),
       origin_(origin),
@@ -18,10 +20,12 @@ ChannelMatrix::ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkBu
       velocity_(num_nodes),
       attitude_(num_nodes),
       stamp_s_(num_nodes, 0.0),
-      coeff_(num_nodes * num_nodes, cf32{0.0f, 0.0f}) {
+      coeff_(num_nodes * num_nodes, cf32{0.0f, 0.0f}),
+      sample_rate_hz_(sample_rate_hz) {
   if (!budget_) {
     throw std::invalid_argument("ChannelMatrix: link budget must not be null");
   }
+  if (budget_->dispersive()) responses_.resize(num_nodes * num_nodes);
 }
 
 void ChannelMatrix::set_position(std::size_t i, std::optional<Ecef> pos) {
@@ -68,8 +72,16 @@ void ChannelMatrix::set_attitude(std::size_t i, const std::optional<Orientation>
 cf32 ChannelMatrix::coefficient_at(std::size_t tx, std::size_t rx, double t_s) const {
   const cf32 c = coefficient(tx, rx);
   if (!time_varying() || c == cf32{}) return c;
+  const std::complex<double> h = fading_at(tx, rx, t_s, 0);
+  return c * cf32{static_cast<float>(h.real()), static_cast<float>(h.imag())};
+}
+
+std::complex<double> ChannelMatrix::fading_at(std::size_t tx, std::size_t rx, double t_s,
+                                              std::size_t path) const {
+  if (!time_varying()) return 1.0;
   LinkGeometry g = geometry(tx, rx);
   g.time_s = t_s;
+  g.path = path;
   // Only `local` moves: the time-varying stages read nothing else.
   for (LinkEnd* end : {&g.tx, &g.rx}) {
     const double dt = t_s - stamp_s_[end->index];
@@ -77,8 +89,7 @@ cf32 ChannelMatrix::coefficient_at(std::size_t tx, std::size_t rx, double t_s) c
     end->local.y_m += end->velocity.north_mps * dt;
     end->local.z_m += end->velocity.up_mps * dt;
   }
-  const std::complex<double> h = budget_->fading(g);
-  return c * cf32{static_cast<float>(h.real()), static_cast<float>(h.imag())};
+  return budget_->fading(g);
 }
 
 void ChannelMatrix::recompute(std::size_t i) {
@@ -94,6 +105,46 @@ void ChannelMatrix::recompute(std::size_t i) {
     coeff_[i * n_ + j] = from_j;
     coeff_[j * n_ + i] = budget_->reciprocal() ? from_j : budget_->coefficient(geometry(i, j));
   }
+  if (!dispersive()) return;
+  for (std::size_t j = 0; j < n_; ++j) {
+    recompute_response(j, i);
+    if (j != i) recompute_response(i, j);
+  }
+}
+
+void ChannelMatrix::recompute_response(std::size_t tx, std::size_t rx) {
+  LinkResponse& r = responses_[rx * n_ + tx];
+  r.lags.clear();
+  r.taps.clear();
+  r.path_gains.clear();
+  r.path_filters.clear();
+  if (tx == rx || !positions_[tx] || !positions_[rx]) return;
+  budget_->paths(geometry(tx, rx), paths_scratch_);
+  std::vector<FractionalDelay> filters;
+  filters.reserve(paths_scratch_.size());
+  for (const Path& p : paths_scratch_) {
+    filters.push_back(fractional_delay(p.delay_s * sample_rate_hz_));
+    const FractionalDelay& f = filters.back();
+    for (std::uint32_t l = 0; l < f.count; ++l) r.lags.push_back(f.first_lag + l);
+  }
+  std::sort(r.lags.begin(), r.lags.end());
+  r.lags.erase(std::unique(r.lags.begin(), r.lags.end()), r.lags.end());
+  const std::size_t k = r.lags.size();
+  r.taps.assign(k, cf32{});
+  r.path_filters.assign(paths_scratch_.size() * k, 0.0F);
+  for (std::size_t p = 0; p < paths_scratch_.size(); ++p) {
+    const std::complex<double> g = paths_scratch_[p].gain;
+    r.path_gains.emplace_back(static_cast<float>(g.real()), static_cast<float>(g.imag()));
+    const FractionalDelay& f = filters[p];
+    // The filter's lags are consecutive, so they are a run of r.lags.
+    const auto at = static_cast<std::size_t>(
+        std::lower_bound(r.lags.begin(), r.lags.end(), f.first_lag) - r.lags.begin());
+    for (std::uint32_t l = 0; l < f.count; ++l) {
+      r.path_filters[p * k + at + l] = f.taps[l];
+      r.taps[at + l] += r.path_gains.back() * f.taps[l];
+    }
+  }
+  if (k > 0) max_lag_ = std::max(max_lag_, r.lags.back());
 }
 
 }  // namespace rfsitl::channel

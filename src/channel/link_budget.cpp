@@ -20,6 +20,7 @@ LinkBudget::LinkBudget(double fixed_gain_db, std::vector<std::unique_ptr<GainSta
     } else {
       reciprocal_ = reciprocal_ && s->reciprocal();
       depends_on_attitude_ = depends_on_attitude_ || s->depends_on_attitude();
+      if (s->dispersive()) dispersive_.push_back(s.get());
       large_scale_.push_back(std::move(s));
     }
   }
@@ -30,6 +31,25 @@ cf32 LinkBudget::coefficient(const LinkGeometry& link) const {
   for (const auto& s : large_scale_) c *= s->gain(link);
   // Evaluated in double and rounded once.
   return {static_cast<float>(c.real()), static_cast<float>(c.imag())};
+}
+
+void LinkBudget::paths(const LinkGeometry& link, std::vector<Path>& out) const {
+  std::complex<double> c = fixed_amplitude_;
+  for (const auto& s : large_scale_) {
+    if (!s->dispersive()) c *= s->gain(link);
+  }
+  out.assign(1, Path{0.0, c});
+  std::vector<Path> stage;
+  std::vector<Path> next;
+  for (const GainStage* d : dispersive_) {
+    stage.clear();
+    d->paths(link, stage);
+    next.clear();
+    for (const Path& a : out) {
+      for (const Path& b : stage) next.push_back({a.delay_s + b.delay_s, a.gain * b.gain});
+    }
+    out.swap(next);
+  }
 }
 
 std::complex<double> LinkBudget::fading(const LinkGeometry& link) const {

@@ -80,7 +80,8 @@ class LockStepEngine final : public Engine {
         block_(s.timing.tick_samples),
         air_(s.nodes.size(), scenario::make_link_budget(s), s.channel.origin,
              channel::ChannelConfig{s.channel.noise_variance, s.channel.shared_noise, s.seed,
-                                    s.timing.sample_rate_hz, s.timing.tick_samples}),
+                                    s.timing.sample_rate_hz, s.timing.tick_samples,
+                                    s.channel.tx_impairments, s.channel.rx_impairments}),
         channel_(air_.matrix()),
         counters_(s.nodes.size()),
         clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
@@ -333,6 +334,7 @@ class LockStepEngine final : public Engine {
       for (std::size_t i = 0; i < nodes_.size(); ++i) tx_phase(i);
     }
     record_transmissions();
+    air_.on_air(now_, active_tx_);
     plan_receivers();
     air_.begin_tick(now_, !runnable_.empty());
     // Receivers that run are dealt round-robin to the workers: balanced whatever
@@ -413,8 +415,9 @@ class LockStepEngine final : public Engine {
 
   /// Skipping silence, exact condition: receiver m runs in a tick iff some sample
   /// is left after its own transmission and (it is inside a frame, or it has just
-  /// finished transmitting, or some other active transmitter n reaches it with
-  /// c_nm != 0). Otherwise its input is pure noise, from which it cannot decode
+  /// finished transmitting, or some other transmitter's signal reaches it: an
+  /// active one with c_nm != 0, or through a delayed path the tail of an
+  /// earlier transmission). Otherwise its input is pure noise, from which it cannot decode
   /// anything. skip_idle_receivers = false runs every receiver every tick.
   /// Observers do not count: a watched idle receiver's input is computed for
   /// them (RxTick::kWatched) without running it.
@@ -430,10 +433,7 @@ class LockStepEngine final : public Engine {
   bool hears_more_than_noise(std::size_t m) const {
     const Node& node = nodes_[m];
     if (node.receiver_blanked || node.radio->rx_busy()) return true;
-    for (const std::size_t n : active_) {
-      if (n != m && channel_.coefficient(n, m) != cf32{}) return true;
-    }
-    return false;
+    return air_.hears_signal(m);
   }
 
   /// Serially: which receivers run this tick (runnable_, remote ones first so
@@ -472,7 +472,7 @@ class LockStepEngine final : public Engine {
     const std::size_t len = block_ - first;
     if (node.watched) std::fill_n(node.rx.begin(), first, cf32{});  // blanked: zeros
     const std::span<cf32> y(node.rx.data() + first, len);
-    air_.receive(m, active_tx_, now_, first, y, node.scratch);
+    air_.receive(m, first, y, node.scratch);
     if (run) node.radio->receive(y, node);
   }
 

@@ -137,11 +137,13 @@ void FrameLedger::report(const Record& r, bool delivered, std::optional<std::siz
 }
 
 void FrameLedger::settle(SampleTime now, const channel::ChannelMatrix& channel) {
+  // A delayed path brings a frame's end to its receivers up to max_lag() later.
+  const SampleTime grace = config_.grace_samples + static_cast<SampleTime>(channel.max_lag());
   for (Record& r : records_) {
-    if (!r.settled && r.end + config_.grace_samples <= now) settle_record(r, channel);
+    if (!r.settled && r.end + grace <= now) settle_record(r, channel);
   }
   // A settled record is still needed while a frame it overlaps may await its verdict.
-  const SampleTime horizon = now - 2 * (longest_frame_ + config_.grace_samples);
+  const SampleTime horizon = now - 2 * (longest_frame_ + grace);
   std::erase_if(records_, [&](const Record& r) { return r.settled && r.end < horizon; });
 }
 

@@ -7,7 +7,7 @@
 // that defines `ChannelStageComponent <folder>_component()`, and the folder's
 // name here.
 #define RFSITL_CHANNEL_STAGES(X) \
-  X(path_loss) X(shadowing) X(fading) X(antenna) X(occlusion) X(trace)
+  X(path_loss) X(shadowing) X(fading) X(antenna) X(occlusion) X(trace) X(delay) X(multipath)
 
 namespace rfsitl::channel {
 

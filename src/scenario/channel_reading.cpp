@@ -27,6 +27,15 @@ StageChoice read_stage(Context& c, const Entry& at) {
   return stage;
 }
 
+// `{cfo_hz: 200, ...}` under channel.impairments.tx or .rx.
+channel::FrontEndSettings read_front_end(Context& c, const Entry& at) {
+  Section sec(c, at);
+  const config::ComponentInfo& info = channel::front_end_info();
+  config::Settings settings = info.defaults();
+  read_declared(c, sec, at, info, {}, settings);
+  return channel::front_end_fields().build(settings);
+}
+
 // Two keys that say one thing two ways: accepting both would silently prefer one.
 [[noreturn]] void conflict(const Context& c, const Entry& second, const std::string& first,
                            const std::string& why) {
@@ -45,6 +54,14 @@ void read_channel_and_radio(Context& c, const Entry& channel, const Entry& radio
   const Entry variance = sec.take("noise_variance");
   const Entry power_db = sec.take("noise_power_db");
   sec.get("shared_noise", ch.shared_noise);
+  if (const Entry impairments = sec.take("impairments")) {
+    Section isec(c, impairments);
+    const Entry tx = isec.take("tx");
+    const Entry rx = isec.take("rx");
+    isec.finish();
+    if (tx) ch.tx_impairments = read_front_end(c, tx);
+    if (rx) ch.rx_impairments = read_front_end(c, rx);
+  }
   if (const Entry origin = sec.take("origin")) {
     const auto p = read_position(c, origin);
     if (!p || !std::holds_alternative<GeodeticPosition>(*p)) {

@@ -30,6 +30,7 @@ std::unique_ptr<channel::GainStage> build(const Scenario& s, const StageChoice& 
   channel::StageContext context{
       s.radio.value_or(channel::RadioSettings{}).carrier_hz, s.seed, i, s.source_dir, {}};
   for (const NodeConfig& n : s.nodes) context.node_ids.push_back(n.id);
+  context.sample_rate_hz = s.timing.sample_rate_hz;
   return c->make(stage.settings, context);
 }
 

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rfsitl/common/unix_socket_path.hpp"
@@ -156,6 +157,15 @@ void check_channel(const Context& c, const Scenario& s) {
       channel::radio_info().validate(channel::radio_fields().settings_of(*s.radio));
     } catch (const config::SettingError& e) {
       c.fail("radio." + e.key(), e.what());
+    }
+  }
+  // Scenarios built in code skip the reader's checks: the same limits here.
+  for (const auto& [side, fe] :
+       {std::pair{"tx", &s.channel.tx_impairments}, std::pair{"rx", &s.channel.rx_impairments}}) {
+    try {
+      channel::front_end_info().validate(channel::front_end_fields().settings_of(*fe));
+    } catch (const config::SettingError& e) {
+      c.fail(std::string("channel.impairments.") + side + "." + e.key(), e.what());
     }
   }
 }

@@ -17,7 +17,8 @@ namespace {
 const GeodeticPosition kOrigin{43.0, -78.8, 0.0};
 
 Channel three_in_a_row(double noise_variance) {
-  Channel ch(3, make_paper_budget(1.0), kOrigin, ChannelConfig{noise_variance, false, 7, 1e6, 64});
+  Channel ch(3, make_paper_budget(1.0), kOrigin,
+             ChannelConfig{noise_variance, false, 7, 1e6, 64, {}, {}});
   for (std::size_t i = 0; i < 3; ++i) {
     ch.matrix().set_position(i, local_to_ecef({3.0 * static_cast<double>(i), 0.0, 0.0}, kOrigin));
   }
@@ -33,7 +34,8 @@ TEST(Channel, AReceiverGetsTheGainTimesTheLinksSumAndNotItself) {
   const std::vector<Transmission> active{{0, x0.data()}, {1, x1.data()}, {2, x2.data()}};
   std::vector<cf32> y(b - first);
   Channel::Scratch scratch;
-  ch.receive(1, active, 0, first, y, scratch);
+  ch.on_air(0, active);
+  ch.receive(1, first, y, scratch);
   // Paper model, exponent 1: c = (1+j)/sqrt2 / (d + 1), d = 3 m to both neighbours.
   const std::complex<double> c = std::complex<double>(1.0, 1.0) / std::sqrt(2.0) / 4.0;
   const std::complex<double> want =
@@ -53,7 +55,8 @@ TEST(Channel, SilenceIsTheNoiseAtUnitPowerWhateverItsVariance) {
     Channel::Scratch scratch;
     double power = 0.0;
     for (SampleTime tick = 0; tick < 64 * 200; tick += 64) {
-      ch.receive(0, {}, tick, 0, y, scratch);
+      ch.on_air(tick, {});
+      ch.receive(0, 0, y, scratch);
       for (const cf32 v : y) power += std::norm(v);
     }
     // 12800 samples of unit-power complex noise: the mean power's standard
@@ -66,8 +69,9 @@ TEST(Channel, TheNoiseIsAFunctionOfTheSampleTimeNotOfTheCallOrder) {
   Channel ch = three_in_a_row(1e-6);
   Channel::Scratch scratch;
   std::vector<cf32> whole(64), late(54);
-  ch.receive(2, {}, 128, 0, whole, scratch);
-  ch.receive(2, {}, 128, 10, late, scratch);
+  ch.on_air(128, {});
+  ch.receive(2, 0, whole, scratch);
+  ch.receive(2, 10, late, scratch);
   for (std::size_t t = 0; t < late.size(); ++t) EXPECT_EQ(late[t], whole[10 + t]) << t;
 }
 

@@ -5,6 +5,11 @@
 /// plus the receiver's thermal noise, times the front end's fixed gain that puts
 /// the noise floor at unit power:
 ///   y_m[t] = g (sum_{n != m} c_nm(t) x_n[t] + eta_m[t]),  g = 1 / sigma.
+/// With dispersive stages (delay, multipath) a link is an impulse response over
+/// lags (ChannelMatrix::response), each lag's tap ramped the same way:
+///   y_m[t] = g (sum_{n != m} sum_k h_nmk(t) x_n[t - lag_k] + eta_m[t]),
+/// so the channel keeps each transmitter's last max_lag() samples, and a
+/// transmission's tail reaches receivers in the ticks after it ended.
 /// The gain changes no SNR. It keeps signals where liquid-dsp's detectors work
 /// (they have an absolute floor near -100 dBFS, while the paper's path loss puts
 /// signals far below it), as a radio's fixed gain stage puts its noise floor
@@ -16,6 +21,7 @@
 #include <vector>
 
 #include "rfsitl/channel/channel_matrix.hpp"
+#include "rfsitl/channel/front_end.hpp"
 #include "rfsitl/channel/link_budget.hpp"
 #include "rfsitl/channel/noise_source.hpp"
 #include "rfsitl/common/types.hpp"
@@ -28,9 +34,12 @@ struct ChannelConfig {
   std::uint64_t seed = 1;         ///< of the noise
   double sample_rate_hz = 1e6;
   std::size_t tick_samples = 250;
+  FrontEndSettings tx_impairments;  ///< every transmitter's front end
+  FrontEndSettings rx_impairments;  ///< every receiver's
 };
 
-/// One transmitter on the air this tick: its node and its tick's samples.
+/// One transmitter on the air this tick: its node and its tick's samples
+/// (tick_samples of them: its signal, then zeros if its frame ended).
 struct Transmission {
   std::size_t node = 0;
   const cf32* samples = nullptr;  ///< tick_samples of them
@@ -41,6 +50,11 @@ class Channel {
   /// Precondition: budget != nullptr; config.tick_samples > 0.
   Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
           const GeodeticPosition& origin, const ChannelConfig& config);
+
+  /// The front end of receiver m (nullptr when receivers are ideal).
+  const FrontEnd* receiver_front_end(std::size_t m) const {
+    return rx_front_.empty() ? nullptr : &rx_front_[m];
+  }
 
   /// The links, kept in step with positions (engine thread).
   ChannelMatrix& matrix() { return matrix_; }
@@ -54,27 +68,46 @@ class Channel {
   struct Scratch {
     std::vector<const cf32*> inputs;
     std::vector<cf32> coeffs;
-    std::vector<std::size_t> links;
+    std::vector<std::size_t> links;  // transmitters heard
+    std::vector<const cf32*> bases;  // each input at the tick's first sample
     std::vector<cf32> at_next;
     std::vector<cf32> ramp_start;
     std::vector<cf32> ramp_step;
+    std::vector<cf32> path_factor;
   };
+
+  /// Engine thread, once per tick, every tick, before hears_signal() and
+  /// receive(): the transmitters on the air in the tick that starts at
+  /// tick_start. `active` must stay valid until the tick's last receive().
+  /// Transmitters' impairments are applied here (to copies).
+  void on_air(SampleTime tick_start, std::span<const Transmission> active);
 
   /// Engine thread, once per tick before receive(): draws the shared noise
   /// (when there is one and some receiver will run).
   void begin_tick(SampleTime tick_start, bool receivers_run);
 
-  /// Receiver m's input for samples [first, tick_samples) of the tick that
-  /// starts at tick_start: y.size() == tick_samples - first, and every
-  /// transmission's samples are read from its index `first` on. Transmitters
-  /// with a zero coefficient and m itself are left out. Thread-safe for
-  /// different receivers (const; each with its own scratch).
-  void receive(std::size_t m, std::span<const Transmission> active, SampleTime tick_start,
-               std::size_t first, std::span<cf32> y, Scratch& scratch) const;
+  /// Whether some other node's signal reaches receiver m in this tick (a
+  /// transmission now, or the tail of an earlier one through a delayed path):
+  /// without it m's input is noise alone. Thread-safe (const).
+  bool hears_signal(std::size_t m) const;
+
+  /// Receiver m's input for samples [first, tick_samples) of this tick (the one
+  /// on_air() was told of): y.size() == tick_samples - first. Transmitters with
+  /// a zero coefficient and m itself are left out. Thread-safe for different
+  /// receivers (const; each with its own scratch).
+  void receive(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& scratch) const;
 
  private:
-  void mix_fading(std::size_t m, std::span<const Transmission> active, SampleTime tick_start,
-                  std::size_t first, std::span<cf32> y, Scratch& s) const;
+  void mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
+  void gather_lags(std::size_t m, std::size_t first, Scratch& s) const;
+  /// Adds the inputs s.bases[j] (at the tick's first sample) times coefficients
+  /// that fill_at(t, out) gives at each grid time t, ramped between grid points.
+  template <typename FillAt>
+  void mix_ramped(std::size_t first, std::span<cf32> y, Scratch& s, const FillAt& fill_at) const;
+  void mix_fading(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
+  void mix_fading_dispersive(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
+  bool tail_reaches(std::size_t n, std::size_t m, SampleTime from) const;
+  void keep_history(SampleTime tick_start, std::span<const Transmission> active);
 
   ChannelMatrix matrix_;
   ChannelConfig config_;
@@ -83,6 +116,25 @@ class Channel {
   std::vector<std::optional<NoiseSource>> noise_;  // per receiver, unless shared
   std::optional<NoiseSource> shared_noise_;
   std::vector<cf32> shared_noise_buf_;
+
+  // This tick (on_air()).
+  SampleTime tick_start_ = 0;
+  std::span<const Transmission> active_;
+  // Dispersive links: each transmitter's samples [tick_start_ - history_len_,
+  // tick_start_ + tick_samples) in history_[n], zeros where it was silent; the
+  // end of its latest signal (one past its last active tick); and the nodes
+  // whose history is not all zeros, in order.
+  std::size_t history_len_ = 0;
+  std::vector<std::vector<cf32>> history_;
+  std::vector<SampleTime> signal_end_;
+  std::vector<std::size_t> audible_;
+  std::vector<const cf32*> transmitting_;  // keep_history's, by node
+
+  // Front ends (empty when ideal) and the transmitters' impaired samples.
+  std::vector<FrontEnd> tx_front_;
+  std::vector<FrontEnd> rx_front_;
+  std::vector<std::vector<cf32>> impaired_;
+  std::vector<Transmission> impaired_active_;
 };
 
 }  // namespace rfsitl::channel

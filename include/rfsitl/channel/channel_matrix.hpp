@@ -1,5 +1,7 @@
 #pragma once
 /// The N x N matrix of link coefficients, kept in step with node positions.
+#include <complex>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -12,13 +14,25 @@
 
 namespace rfsitl::channel {
 
+/// A dispersive link's impulse response on the sample grid: its paths, each
+/// with its fractional-delay filter (fractional_delay.hpp), laid over the
+/// distinct lags they cover.
+struct LinkResponse {
+  std::vector<std::uint32_t> lags;  ///< samples, ascending, distinct
+  std::vector<cf32> taps;           ///< the response at each lag: sum over paths of gain x filter
+  std::vector<cf32> path_gains;     ///< each path's gain (every large-scale stage included)
+  /// Path p's filter at lags[k]: path_filters[p * lags.size() + k] (0 where it has no tap).
+  std::vector<float> path_filters;
+};
+
 /// Owned by the engine thread; not thread-safe. Node indices are 0..N-1.
 class ChannelMatrix {
  public:
   /// Precondition: budget != nullptr. All nodes start without a position (no
   /// links). `origin` is where the local frame that stages see is centred.
+  /// `sample_rate_hz` turns dispersive links' delays into samples.
   ChannelMatrix(std::size_t num_nodes, std::shared_ptr<const LinkBudget> budget,
-                const GeodeticPosition& origin = {});
+                const GeodeticPosition& origin = {}, double sample_rate_hz = 1e6);
 
   std::size_t size() const { return n_; }
 
@@ -37,6 +51,23 @@ class ChannelMatrix {
 
   /// Row of coefficients seen by receiver `rx`, indexed by transmitter.
   std::span<const cf32> receiver_row(std::size_t rx) const { return {coeff_.data() + rx * n_, n_}; }
+
+  // ---- dispersive stages (delay, multipath) -------------------------------------
+
+  /// True when some stage splits links into delayed paths: response() then
+  /// holds each link's impulse response, and coefficient() its root total power
+  /// gain (what the ledger and the dashboard use).
+  bool dispersive() const { return budget_->dispersive(); }
+
+  /// The response of the link tx -> rx. Precondition: dispersive(). Empty (no
+  /// lags) when either end has no position.
+  const LinkResponse& response(std::size_t tx, std::size_t rx) const {
+    return responses_[rx * n_ + tx];
+  }
+
+  /// The longest lag, samples, of any link's response so far (it never
+  /// shrinks): how far back a transmitter's samples still reach a receiver.
+  std::uint32_t max_lag() const { return max_lag_; }
 
   /// Distance in metres, or nullopt when either position is unknown.
   std::optional<double> distance(std::size_t a, std::size_t b) const;
@@ -71,8 +102,15 @@ class ChannelMatrix {
   /// const calls.
   cf32 coefficient_at(std::size_t tx, std::size_t rx, double t_s) const;
 
+  /// The time-varying stages' factor for path `path` of the link tx -> rx at
+  /// t_s (1 when none is time-varying): coefficient_at() is coefficient()
+  /// times this for path 0. Thread-safe against other const calls.
+  std::complex<double> fading_at(std::size_t tx, std::size_t rx, double t_s,
+                                 std::size_t path) const;
+
  private:
   void recompute(std::size_t i);
+  void recompute_response(std::size_t tx, std::size_t rx);
   LinkGeometry geometry(std::size_t tx, std::size_t rx) const;
 
   std::size_t n_;
@@ -85,6 +123,10 @@ class ChannelMatrix {
   std::vector<double> stamp_s_;  // when each position was set
   double clock_s_ = 0.0;
   std::vector<cf32> coeff_;  // row-major by receiver: coeff_[rx * n + tx]
+  double sample_rate_hz_;
+  std::vector<LinkResponse> responses_;  // as coeff_; dispersive chains only
+  std::uint32_t max_lag_ = 0;
+  std::vector<Path> paths_scratch_;
 };
 
 }  // namespace rfsitl::channel

@@ -21,6 +21,12 @@
 
 namespace rfsitl::channel {
 
+/// One path of a dispersive link: how late it arrives and with what amplitude.
+struct Path {
+  double delay_s = 0.0;             ///< after the transmission, >= 0
+  std::complex<double> gain = 1.0;  ///< |gain|^2: the path's share of the power
+};
+
 /// A stage that scales each link by a factor that depends on its geometry only.
 class GainStage {
  public:
@@ -49,6 +55,17 @@ class GainStage {
   /// True when the gain depends on the ends' attitudes (antennas, airframe
   /// occlusion): the matrix then re-evaluates a node's links when it turns.
   virtual bool depends_on_attitude() const { return false; }
+
+  /// True for a stage that splits a link into delayed paths (paths()). Its
+  /// gain() must then be the root of the paths' total power, sqrt(sum |g_p|^2):
+  /// what the link budget, the frame ledger and the dashboard see of it.
+  virtual bool dispersive() const { return false; }
+
+  /// Dispersive stages: appends the link's paths to `out` (at least one).
+  /// Pure and thread-safe, like gain(); called when a node moves.
+  virtual void paths(const LinkGeometry& link, std::vector<Path>& out) const {
+    out.push_back({0.0, gain(link)});
+  }
 };
 
 /// What a stage may need beyond its settings.
@@ -58,6 +75,7 @@ struct StageContext {
   std::size_t position = 0;      ///< the stage's place in channel.stages (keys its random streams)
   std::string source_dir;        ///< the scenario file's folder: data files are relative to it
   std::vector<NodeId> node_ids;  ///< index -> the node's id (data files name nodes by id)
+  double sample_rate_hz = 1e6;   ///< the emulator's (time.sample_rate_hz)
 };
 
 /// A registered stage: its self-description and how to build it from checked

@@ -30,8 +30,18 @@ class LinkBudget {
   cf32 coefficient(const LinkGeometry& link) const;
 
   /// The product of the time-varying stages' gains (1 without any), at the
-  /// ends' positions in `link`. Thread-safe (const).
+  /// ends' positions in `link`, for its path `link.path`. Thread-safe (const).
   std::complex<double> fading(const LinkGeometry& link) const;
+
+  /// True when some stage is dispersive (delay, multipath): links are then
+  /// impulse responses (paths()), not single coefficients.
+  bool dispersive() const { return !dispersive_.empty(); }
+
+  /// The link's paths: the convolution of the dispersive stages' path lists,
+  /// each path's gain times the fixed gain and every other large-scale stage
+  /// (one path at delay 0 with coefficient()'s value when no stage is
+  /// dispersive). Replaces `out`'s contents. Thread-safe (const).
+  void paths(const LinkGeometry& link, std::vector<Path>& out) const;
 
   /// True when every large-scale stage is reciprocal.
   bool reciprocal() const { return reciprocal_; }
@@ -52,6 +62,7 @@ class LinkBudget {
   double fixed_amplitude_;
   std::vector<std::unique_ptr<GainStage>> large_scale_;
   std::vector<std::unique_ptr<GainStage>> fading_;
+  std::vector<const GainStage*> dispersive_;  // of large_scale_, in chain order
   bool reciprocal_ = true;
   bool depends_on_attitude_ = false;
   double update_interval_s_ = 0.0;

@@ -48,6 +48,10 @@ struct LinkGeometry {
   /// The virtual time of the evaluation, seconds: when the positions were set
   /// (large-scale stages), or the grid point (time-varying stages).
   double time_s = 0.0;
+  /// Which path of a dispersive link a time-varying stage is evaluated for
+  /// (0 for a link of one path): stages with random draws key them by it, so
+  /// that a link's paths fade independently.
+  std::size_t path = 0;
 };
 
 }  // namespace rfsitl::channel

@@ -35,4 +35,18 @@ constexpr PhiloxCounter philox4x32(PhiloxCounter counter, PhiloxKey key) {
   return counter;
 }
 
+/// A 64-bit seed as a key.
+constexpr PhiloxKey philox_key(std::uint64_t seed) {
+  return {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)};
+}
+
+/// A key of its own for `stream` of a component tagged `tag` (e.g. a channel
+/// stage's place in the chain): one Philox block of {stream, 0, 0, tag} under
+/// the seed, so that its draws never coincide with the noise source's (keyed
+/// by the seed itself) or another tag's.
+constexpr PhiloxKey philox_subkey(std::uint64_t seed, std::uint32_t stream, std::uint32_t tag) {
+  const PhiloxCounter k = philox4x32({stream, 0, 0, tag}, philox_key(seed));
+  return {k[0], k[1]};
+}
+
 }  // namespace rfsitl

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "rfsitl/channel/front_end.hpp"
 #include "rfsitl/channel/radio.hpp"
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/common/types.hpp"
@@ -133,6 +134,10 @@ struct ChannelConfig {
   double noise_variance = 1e-12;
   bool shared_noise = false;  ///< the paper's one noise source for all receivers
   GeodeticPosition origin{43.0008, -78.7890, 0.0};  ///< where local x/y/z = 0
+  /// Every node's front-end imperfections (channel.impairments.tx / .rx);
+  /// ideal by default.
+  channel::FrontEndSettings tx_impairments;
+  channel::FrontEndSettings rx_impairments;
 };
 
 enum class TimeMode { kRealTime, kVirtual };

@@ -19,6 +19,11 @@
 /// distance, so two nodes moving apart at v shift it by -v / lambda = -v fc / c.
 /// Rayleigh: h = g. E|h|^2 = 1: the stage adds no mean gain.
 ///
+/// Dispersive links (delay, multipath before this stage): every path p gets a
+/// field of its own (its own M draws), so the taps fade independently, as in a
+/// tapped-delay-line model; a Rician stage's line-of-sight wave is on path 0,
+/// the first arrival, and the later paths are Rayleigh.
+///
 /// Time. The engine evaluates the gain on a grid every 1 / update_rate_hz
 /// seconds (each end extrapolated along its velocity) and interpolates
 /// linearly between grid points, so the rate must be well above the Doppler.
@@ -59,9 +64,10 @@ namespace fading {
 /// (velocities are not read: the caller extrapolates). `seed` is the one in
 /// force (settings.seed, or the scenario's when that is 0). Preconditions:
 /// settings within their declared limits, carrier_hz > 0, node indices below
-/// 2^32. Pure, thread-safe.
+/// 2^32, path below 2^16. Pure, thread-safe.
 std::complex<double> gain(const FadingSettings& settings, double carrier_hz, std::uint64_t seed,
-                          std::size_t stage_position, const LinkEnd& tx, const LinkEnd& rx);
+                          std::size_t stage_position, const LinkEnd& tx, const LinkEnd& rx,
+                          std::size_t path = 0);
 
 }  // namespace fading
 }  // namespace rfsitl::channel

@@ -33,7 +33,7 @@ class FadingStage final : public GainStage {
       : s_(s), carrier_hz_(carrier_hz), seed_(seed), position_(position) {}
 
   std::complex<double> gain(const LinkGeometry& link) const override {
-    return fading::gain(s_, carrier_hz_, seed_, position_, link.tx, link.rx);
+    return fading::gain(s_, carrier_hz_, seed_, position_, link.tx, link.rx, link.path);
   }
 
   bool reciprocal() const override { return false; }
