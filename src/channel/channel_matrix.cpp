@@ -92,6 +92,23 @@ std::complex<double> ChannelMatrix::fading_at(std::size_t tx, std::size_t rx, do
   return budget_->fading(g);
 }
 
+float ChannelMatrix::power_gain_at(std::size_t tx, std::size_t rx, double t_s) const {
+  if (!time_varying()) return power_gain(tx, rx);
+  if (dispersive()) {
+    // A link without paths (the diagonal, or an end without a position) falls
+    // through to its coefficient: zero, or the node hearing itself.
+    const LinkResponse& r = response(tx, rx);
+    if (!r.path_gains.empty()) {
+      double total = 0.0;
+      for (std::size_t p = 0; p < r.path_gains.size(); ++p) {
+        total += std::norm(std::complex<double>(r.path_gains[p]) * fading_at(tx, rx, t_s, p));
+      }
+      return static_cast<float>(total);
+    }
+  }
+  return std::norm(coefficient_at(tx, rx, t_s));
+}
+
 void ChannelMatrix::recompute(std::size_t i) {
   const bool known = positions_[i].has_value();
   for (std::size_t j = 0; j < n_; ++j) {

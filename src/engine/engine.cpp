@@ -190,8 +190,13 @@ class LockStepEngine final : public Engine {
   }
 
   std::vector<float> link_gains() const override {
-    std::lock_guard lock(snapshot_mutex_);
-    return gains_snapshot_;
+    std::shared_ptr<const channel::ChannelMatrix> links;
+    {
+      std::lock_guard lock(snapshot_mutex_);
+      if (!links_snapshot_) return gains_snapshot_;
+      links = links_snapshot_;
+    }
+    return faded_gains(std::move(links));
   }
 
   void set_position(std::size_t node, std::optional<Ecef> position) override {
@@ -283,7 +288,13 @@ class LockStepEngine final : public Engine {
       // turn with their bodies.
       if (channel_.time_varying() || channel_.depends_on_attitude()) copy_motions();
     }
-    if (geometry_stale_ && now_ >= next_geometry_copy_) publish_geometry();
+    if (geometry_stale_ && now_ >= next_geometry_copy_) {
+      if (channel_.time_varying()) {
+        copy_links();
+      } else {
+        copy_gains();
+      }
+    }
   }
 
   void copy_motions() {
@@ -299,10 +310,10 @@ class LockStepEngine final : public Engine {
     }
   }
 
-  /// Copies positions and link gains for other threads (the dashboard). An
-  /// O(N^2) copy, so at most every kGeometryCopyPeriodS of virtual time, and
-  /// only after something moved.
-  void publish_geometry() {
+  /// The large-scale gains, for other threads (the dashboard): an O(N^2) copy,
+  /// so at most every kGeometryCopyPeriodS of virtual time, and only after
+  /// something moved.
+  void copy_gains() {
     const std::size_t n = nodes_.size();
     std::vector<std::optional<Ecef>> pos(n);
     std::vector<float> gains(n * n);
@@ -315,9 +326,59 @@ class LockStepEngine final : public Engine {
       positions_snapshot_ = std::move(pos);
       gains_snapshot_ = std::move(gains);
     }
+    copied(kGeometryCopyPeriodS);
+  }
+
+  /// After a copy for other threads: the next waits for a move and `period_s`
+  /// of virtual time.
+  void copied(double period_s) {
     geometry_stale_ = false;
     next_geometry_copy_ =
-        now_ + static_cast<SampleTime>(kGeometryCopyPeriodS * scenario_.timing.sample_rate_hz);
+        now_ + static_cast<SampleTime>(period_s * scenario_.timing.sample_rate_hz);
+  }
+
+  /// With time-varying stages a link's gain changes with time alone (fading
+  /// along the nodes' velocities, a trace's time axis), so other threads get
+  /// a copy of the links themselves (coefficients, responses, positions,
+  /// velocities: what power_gain_at reads), from which link_gains() computes
+  /// the gains of the current moment (faded_gains). The engine thread only
+  /// copies, after something moved or turned, at most every kFadedCopyPeriodS
+  /// (an O(N^2) copy, with each dispersive link's response); the stages'
+  /// evaluations, far dearer, are the reader's, and happen only when someone
+  /// reads. It only reads the channel, so it changes no outcome.
+  void copy_links() {
+    std::vector<std::optional<Ecef>> pos(nodes_.size());
+    for (std::size_t i = 0; i < pos.size(); ++i) pos[i] = channel_.position(i);
+    auto links = std::make_shared<const channel::ChannelMatrix>(channel_);
+    {
+      std::lock_guard lock(snapshot_mutex_);
+      positions_snapshot_ = std::move(pos);
+      links_snapshot_ = std::move(links);
+    }
+    copied(kFadedCopyPeriodS);
+  }
+
+  /// Every link's power_gain_at() on `links` (the latest copy) at the current
+  /// virtual time rounded down to a multiple of kFadedCopyPeriodS: computed by
+  /// the first reader of each period and kept for the others (the dashboard
+  /// reads twice per push, and every viewer shares a push).
+  std::vector<float> faded_gains(std::shared_ptr<const channel::ChannelMatrix> links) const {
+    const double fs = scenario_.timing.sample_rate_hz;
+    const auto period = std::max<SampleTime>(1, static_cast<SampleTime>(kFadedCopyPeriodS * fs));
+    const SampleTime now = status_.virtual_samples.load(std::memory_order_relaxed);
+    const SampleTime at = now - now % period;
+    std::lock_guard lock(faded_mutex_);
+    if (links != faded_of_ || at != faded_at_) {
+      const std::size_t n = links->size();
+      const double t_s = static_cast<double>(at) / fs;
+      faded_.resize(n * n);
+      for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t m = 0; m < n; ++m) faded_[i * n + m] = links->power_gain_at(i, m, t_s);
+      }
+      faded_of_ = std::move(links);
+      faded_at_ = at;
+    }
+    return faded_;
   }
 
   void run_tick() {
@@ -559,6 +620,24 @@ class LockStepEngine final : public Engine {
   bool geometry_stale_ = true;  // positions changed since the last copy (or none yet)
   SampleTime next_geometry_copy_ = 0;
   static constexpr double kGeometryCopyPeriodS = 0.02;
+  // With time-varying stages: how often the links are copied after a move,
+  // and the step in virtual time of the gains that link_gains() computes. A
+  // person reads the dashboard's 4 snapshots a second (fast fading, tens to
+  // hundreds of Hz at drone speeds, is sampled there, never followed), so 10
+  // steps a second of virtual time are more than anyone can watch, and each
+  // step evaluates the time-varying stages once per link and path, for a
+  // fading stage M (32 by default) sines, cosines and Philox blocks each:
+  // about 3 us per link and path on the 2-core development machine, 12 ms at
+  // N = 64 with flat links, P times that behind P taps. The engine thread
+  // evaluating them itself every 100 ms slowed a 15-node Rayleigh run in
+  // virtual time (bench/virtual_speed) from 42x to 34x real time, dashboard
+  // or not; so the reader pays instead, and only while someone reads.
+  static constexpr double kFadedCopyPeriodS = 0.1;
+  std::shared_ptr<const channel::ChannelMatrix> links_snapshot_;  // time-varying chains only
+  mutable std::mutex faded_mutex_;  // the gains last computed from links_snapshot_:
+  mutable std::vector<float> faded_;
+  mutable std::shared_ptr<const channel::ChannelMatrix> faded_of_;  // ... from this copy
+  mutable SampleTime faded_at_ = 0;                                 // ... at this time
 
   NodeStateInbox inbox_;
 

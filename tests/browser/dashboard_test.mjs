@@ -8,7 +8,11 @@
 //      dragging a node far away on the map moves it in the emulator (its links'
 //      SNR drop below sensitivity and the heat-map cells change colour);
 //   2. without it: the page says moving nodes is off, a drag moves nothing and
-//      sends no move, and the server's refusal of a move is shown.
+//      sends no move, and the server's refusal of a move is shown;
+//   3. on a scenario with a fading stage and a moving node: every snapshot
+//      carries a new link matrix, clicking a heat-map cell plots that link's
+//      gain and the plot gains points (that vary) over time, clicking the cell
+//      again drops it, and clicking a link on the map picks that link.
 // No console errors are allowed. Full-page screenshots go to $RFSITL_ARTIFACTS
 // (default tests/browser/artifacts/).
 //
@@ -25,7 +29,7 @@ import {
   sleep, startEmulator, within,
 } from './lib.mjs';
 
-const OVERALL_MS = 90000;
+const OVERALL_MS = 150000;
 const VERBOSE = !!process.env.VERBOSE;
 const started = Date.now();
 const log = (...a) => console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s]`, ...a);
@@ -44,6 +48,23 @@ nodes:
   - {id: 3, position: {x: 0, y: 8, z: 10}}
   - {id: 5, position: {x: 8, y: 8, z: 10}}
   - {id: 8}
+`;
+
+// Rayleigh fading on every link, 2 to 2.5 km long (a mean SNR near 15 dB, so
+// fades cross the receivers' 5.3 dB); node 2 flies a small circle, so its
+// links fade as it flies, while 1 <-> 3 rest (and keep their fade).
+const FADING_IDS = [1, 2, 3];
+const FADING_SCENARIO = `# written by tests/browser/dashboard_test.mjs
+name: browser-fading
+seed: 11
+time: {mode: realtime, sample_rate_hz: 1e6, tick_samples: 250}
+phy: {type: gmsk}
+channel:
+  stages: [{type: path_loss, model: free_space}, {type: fading}]
+nodes:
+  - {id: 1, position: {x: 0, y: 0, z: 10}}
+  - {id: 2, mobility: {type: orbit, centre_x_m: 2000, centre_y_m: 1500, radius_m: 40, speed_mps: 10, altitude_m: 10}}
+  - {id: 3, position: {x: 0, y: 2500, z: 10}}
 `;
 
 const cleanups = [];
@@ -331,6 +352,105 @@ async function controlOff(browser, scenarioFile) {
   await emu.stop();
 }
 
+// ---- part 3: a fading channel and the link plot -------------------------------------------
+/// How many pixels of the link plot are drawn in the link's colour (#ffd65a).
+async function linkPlotPixels(page) {
+  return dash(page, () => {
+    const canvas = document.querySelector('#link-gain canvas');
+    const px = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
+    let n = 0;
+    for (let k = 0; k < px.length; k += 4) {
+      if (Math.abs(px[k] - 255) + Math.abs(px[k + 1] - 214) + Math.abs(px[k + 2] - 90) < 60 && px[k + 3] > 200) ++n;
+    }
+    return n;
+  });
+}
+
+async function fadingLinkPlot(browser, scenarioFile) {
+  log('part 3: a fading channel, the link plot');
+  const { netBase, locBase } = await freeBases(FADING_IDS);
+  const emu = await startEmulator([scenarioFile, '--net-base', String(netBase), '--loc-base',
+    String(locBase), '--dashboard-port', '0', '--stats-interval', '0'], { label: 'emulator 3', log: debug });
+  cleanups.push(() => emu.stop());
+  log(`emulator 3 at ${emu.url}`);
+
+  const { page } = await openPage(browser, emu.url, 'page 3');
+  // Whether each snapshot the server sends carries the link matrix (it is sent
+  // only when a gain changed since the previous one).
+  const withMatrix = [];
+  await page.routeWebSocket(/\/ws$/, (ws) => {
+    const server = ws.connectToServer();
+    server.onMessage((m) => {
+      const msg = JSON.parse(String(m));
+      if (msg.type === 'snapshot') withMatrix.push(Array.isArray(msg.links?.snr_db));
+      ws.send(m);
+    });
+  });
+  await gotoLive(page, emu.url);
+  check((await page.textContent('#link-info')).includes('click a cell'), 'the link plot does not say how to pick a link');
+  check(await dash(page, () => window.rfsitlDashboard.linkPlot()) === null, 'a link is plotted before any click');
+
+  // Click heat-map cell 1 -> 2: the plot names the link, its receiver is watched.
+  await page.locator('#matrix').scrollIntoViewIfNeeded();
+  const cell = await dash(page, () => window.rfsitlDashboard.matrixCell(1, 2));
+  await page.mouse.click(cell.clientX, cell.clientY);
+  await waitFor(page, 'link 1 -> 2 to be plotted after a click on its cell', () => {
+    const d = window.rfsitlDashboard;
+    const p = d.linkPlot();
+    return JSON.stringify(d.link) === '[1,2]' && p && p.points > 0
+      && document.querySelector('#link-name').textContent === '1 → 2' && d.selected === 2;
+  }, undefined, 5000);
+  const first = await dash(page, () => window.rfsitlDashboard.linkPlot());
+  const info = await page.textContent('#link-info');
+  check(/now -?\d+\.\d dB · SNR -?\d+\.\d dB/.test(info), `the link plot's line says "${info}"`);
+  log(`clicked cell 1 -> 2: plotted with ${first.points} points; "${info}"`);
+
+  // Over time the plot gets more points, and they differ: the gain fades.
+  await waitFor(page, 'the link plot to get 12 more points, of at least 6 gains', (n) => {
+    const p = window.rfsitlDashboard.linkPlot();
+    return p && p.points >= n + 12 && p.distinct >= 6;
+  }, first.points, 15000);
+  const later = await dash(page, () => window.rfsitlDashboard.linkPlot());
+  const pixels = await linkPlotPixels(page);
+  check(pixels > 100, `the link plot has ${pixels} pixels in the link's colour`);
+  check(later.hi - later.lo >= 10, `the link plot's dB axis spans ${later.lo}..${later.hi}`);
+  // Every snapshot after the first carried a new matrix: the gains fade between publications.
+  const sent = withMatrix.slice(1);
+  const carried = sent.filter(Boolean).length;
+  check(sent.length >= 12 && carried >= sent.length - 1,
+    `only ${carried} of ${sent.length} snapshots carried the link matrix with fading on`);
+  log(`link plot: ${later.points} points, ${later.distinct} distinct gains, ${later.lo}..${later.hi} dB; `
+    + `${carried} of ${sent.length} snapshots carried the matrix`);
+  await page.mouse.move(2, 2);
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => r())));
+  await screenshot(page, '04-link-gain.png');
+  await page.locator('#matrix-panel').screenshot({ path: path.join(ARTIFACTS, '04b-link-gain-panel.png') });
+
+  // The same cell again drops the plot.
+  await page.locator('#matrix').scrollIntoViewIfNeeded();
+  const again = await dash(page, () => window.rfsitlDashboard.matrixCell(1, 2));
+  await page.mouse.click(again.clientX, again.clientY);
+  await waitFor(page, 'the link plot to be dropped by a second click', () =>
+    window.rfsitlDashboard.link === null && window.rfsitlDashboard.linkPlot() === null
+    && document.querySelector('#link-clear').disabled, undefined, 3000);
+
+  // A link on the map, clicked nearer node 3: link 3 -> 1. Clear drops it.
+  await page.locator('#map').scrollIntoViewIfNeeded();
+  const a = await dash(page, (n) => window.rfsitlDashboard.nodeClientPosition(n), 3);
+  const b = await dash(page, (n) => window.rfsitlDashboard.nodeClientPosition(n), 1);
+  check(a && b && Math.hypot(a.x - b.x, a.y - b.y) > 80, 'nodes 1 and 3 are not drawn far enough apart');
+  await page.mouse.click(a.x + (b.x - a.x) * 0.3, a.y + (b.y - a.y) * 0.3);
+  await waitFor(page, 'link 3 -> 1 to be plotted after a click on the map', () =>
+    JSON.stringify(window.rfsitlDashboard.link) === '[3,1]' && window.rfsitlDashboard.linkPlot()?.points > 0,
+  undefined, 3000);
+  await page.click('#link-clear');
+  await waitFor(page, 'Clear to drop the plot', () => window.rfsitlDashboard.link === null, undefined, 3000);
+  log('second click on the cell drops the plot; a click on map link 1 - 3 near 3 plots 3 -> 1; Clear drops it');
+  checkNoConsoleErrors('fading');
+  await page.context().close();
+  await emu.stop();
+}
+
 // ---- main ------------------------------------------------------------------------------
 async function main() {
   fs.mkdirSync(ARTIFACTS, { recursive: true });
@@ -338,12 +458,15 @@ async function main() {
   cleanups.push(() => fs.rmSync(tmp, { recursive: true, force: true }));
   const scenarioFile = path.join(tmp, 'browser_test.yaml');
   fs.writeFileSync(scenarioFile, SCENARIO);
+  const fadingFile = path.join(tmp, 'browser_fading.yaml');
+  fs.writeFileSync(fadingFile, FADING_SCENARIO);
   log(`emulator ${RFSITL_BIN}; artifacts in ${ARTIFACTS}`);
   const browser = await launchChromium(chromium);
   cleanups.push(() => browser.close().catch(() => {}));
   log(`Chromium ${browser.version()}`);
   await controlOn(browser, scenarioFile);
   await controlOff(browser, scenarioFile);
+  await fadingLinkPlot(browser, fadingFile);
 }
 
 async function cleanup() {

@@ -5,8 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rfsitl/channel/link_geometry.hpp"
@@ -60,6 +65,39 @@ inline double ks_statistic(const std::vector<double>& cdf) {
     d = std::max({d, static_cast<double>(i + 1) / n - cdf[i], cdf[i] - static_cast<double>(i) / n});
   }
   return d;
+}
+
+/// The registered stage `type` with `settings` over its defaults, checked and
+/// built as a scenario builds it (fails the test if there is no such stage).
+inline std::unique_ptr<channel::GainStage> make_stage(const std::string& type,
+                                                      const config::Settings& settings,
+                                                      double sample_rate_hz, std::uint64_t seed) {
+  const channel::ChannelStageComponent* c = channel::find_channel_stage(type);
+  if (c == nullptr) throw std::invalid_argument("no stage " + type);
+  config::Settings all = c->info.defaults();
+  for (const auto& [key, value] : settings) all.set(key, value);
+  c->info.validate(all);
+  channel::StageContext context;
+  context.seed = seed;
+  context.sample_rate_hz = sample_rate_hz;
+  return c->make(all, context);
+}
+
+/// The multipath stage's settings for `profile: taps` with these (delay_ns,
+/// gain_db) taps.
+inline config::Settings multipath_taps(
+    std::initializer_list<std::pair<double, double>> delay_ns_gain_db) {
+  config::Settings s;
+  s.set("profile", config::Value(std::string("taps")));
+  config::Records taps;
+  for (const auto& [delay, gain] : delay_ns_gain_db) {
+    config::Record r;
+    r.set("delay_ns", delay);
+    r.set("gain_db", gain);
+    taps.push_back(r);
+  }
+  s.set("taps", config::Value(taps));
+  return s;
 }
 
 /// The key a stage's declaration names when `key` is set to `value` on top of

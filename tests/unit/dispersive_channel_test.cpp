@@ -30,15 +30,7 @@ const GeodeticPosition kOrigin{43.0, -78.8, 0.0};
 
 std::unique_ptr<GainStage> make(const std::string& type, const config::Settings& s,
                                 double sample_rate_hz) {
-  const ChannelStageComponent* c = find_channel_stage(type);
-  EXPECT_NE(c, nullptr) << type;
-  config::Settings all = c->info.defaults();
-  for (const auto& [key, value] : s) all.set(key, value);
-  c->info.validate(all);
-  StageContext context;
-  context.seed = 11;
-  context.sample_rate_hz = sample_rate_hz;
-  return c->make(all, context);
+  return rfsitl::testing::make_stage(type, s, sample_rate_hz, 11);
 }
 
 /// Nodes on the east axis at `east_m`, unit-gain links but for the stages,
@@ -156,16 +148,8 @@ TEST(MultipathStage, TheTdlProfilesHaveTheDelaySpreadTheyAreScaledTo) {
 TEST(MultipathStage, GivenTapsAreTheReceivedImpulseResponseAndTheLinkIsReciprocal) {
   // 1 Msps; taps at 0, 2 and 5 us: whole samples, powers 0, -3, -6 dB.
   const double fs = 1e6;
-  config::Settings s;
-  s.set("profile", config::Value(std::string("taps")));
-  config::Records taps;
-  for (const auto& [delay, gain] : {std::pair{0.0, 0.0}, {2000.0, -3.0}, {5000.0, -6.0}}) {
-    config::Record r;
-    r.set("delay_ns", delay);
-    r.set("gain_db", gain);
-    taps.push_back(r);
-  }
-  s.set("taps", config::Value(taps));
+  const config::Settings s =
+      rfsitl::testing::multipath_taps({{0.0, 0.0}, {2000.0, -3.0}, {5000.0, -6.0}});
   std::vector<std::unique_ptr<GainStage>> stages;
   stages.push_back(make("multipath", s, fs));
   Channel ch = line_of({0.0, 10.0}, std::move(stages), fs, 16);
@@ -198,16 +182,7 @@ TEST(MultipathFading, EachTapFadesOnItsOwnWithItsShareOfThePower) {
   // over 40 x 39 links, each tap's mean power is 1/2 and the taps are
   // uncorrelated (|rho| < 4 / sqrt(1560) = 0.10, a 4-sigma bound).
   const double fs = 1e6;
-  config::Settings s;
-  s.set("profile", config::Value(std::string("taps")));
-  config::Records taps;
-  for (const double delay : {0.0, 3000.0}) {
-    config::Record r;
-    r.set("delay_ns", delay);
-    r.set("gain_db", 0.0);
-    taps.push_back(r);
-  }
-  s.set("taps", config::Value(taps));
+  const config::Settings s = rfsitl::testing::multipath_taps({{0.0, 0.0}, {3000.0, 0.0}});
   std::vector<std::unique_ptr<GainStage>> stages;
   stages.push_back(make("multipath", s, fs));
   stages.push_back(make("fading", {}, fs));

@@ -35,9 +35,10 @@ export function setControl(runControl) {
   state.control = on;
   pill.dataset.control = on ? 'on' : 'off';
   pill.textContent = text;
+  const clicks = 'Click a node to watch it, a link to plot its gain (the end nearer the click sends).';
   help.textContent = on
-    ? 'Click a node to watch it. Drag a node to move it. Wheel zooms, dragging the background pans.'
-    : `Click a node to watch it. ${off[0].toUpperCase()}${off.slice(1)}. `
+    ? `${clicks} Drag a node to move it. Wheel zooms, dragging the background pans.`
+    : `${clicks} ${off[0].toUpperCase()}${off.slice(1)}. `
       + 'Wheel zooms, dragging the background pans.';
   mapCanvas.classList.toggle('movable', on);
 }

@@ -1,8 +1,8 @@
 // rfsitl live dashboard: entry point. Plain browser JavaScript as native ES
 // modules, no dependencies and no build step (the emulator serves these files
 // as they are): it talks to the emulator's WebSocket /ws (messages documented
-// in docs/dashboard.md) and draws the map, link matrix, spectrum, waterfall and
-// constellation on canvases.
+// in docs/dashboard.md) and draws the map, link matrix, a link's gain over
+// time, spectrum, waterfall and constellation on canvases.
 //
 // Each view module finds its own elements and registers its own drawing and
 // input handlers when imported; this file only routes the server's messages to
@@ -22,6 +22,7 @@ import { updatePhyLegend, updateUnknown } from './map-aside.js';
 import './map-draw.js';
 import { settleOverrides } from './map-input.js';
 import { refreshMapTooltip } from './map-tooltip.js';
+import { keepLinkIfKnown, showInfo as showLinkInfo } from './link-plot.js';
 import { layoutMatrix, refreshMatrixTooltip } from './matrix.js';
 import { requestDraw } from './scheduler.js';
 import { select, updateSelectedInfo } from './selection.js';
@@ -39,8 +40,9 @@ function setNodes(ids) {
   if (!setNodeIds(ids)) return;
   buildTable(ids);
   if (state.selected != null && !state.indexOf.has(state.selected)) select(null);
+  keepLinkIfKnown();
   layoutMatrix();
-  requestDraw('map', 'matrix', 'traffic');
+  requestDraw('map', 'matrix', 'traffic', 'link');
 }
 
 function onHello(m, text) {
@@ -65,12 +67,13 @@ function onSnapshot(s) {
   updateUnknown(s.nodes);
   settleOverrides(s);
   if (state.selected != null) updateSelectedInfo();
+  if (state.link) showLinkInfo();
   // Tooltips under a still pointer follow the data.
   refreshMatrixTooltip();
   refreshMapTooltip();
-  requestDraw('map', 'matrix', 'traffic');
+  requestDraw('map', 'matrix', 'traffic', 'link');
 }
 
 layoutMatrix();
-requestDraw('map', 'matrix', 'traffic', 'spectrum', 'waterfall', 'constellation');
+requestDraw('map', 'matrix', 'traffic', 'link', 'spectrum', 'waterfall', 'constellation');
 connect({ hello: onHello, snapshot: onSnapshot, spectrum: onSpectrum, constellation: onConstellation });

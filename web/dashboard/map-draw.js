@@ -8,6 +8,7 @@
 import { LUT_CSS, phyColour } from './colour.js';
 import { $, setText } from './dom.js';
 import { fmtMetres } from './format.js';
+import { LINK_COLOUR } from './link-plot.js';
 import { fitView, mapSurface, nodeRadius, nodeWorld, toScreenX, toScreenY, toWorld } from './map-view.js';
 import { niceStep } from './math.js';
 import { registerDrawer, requestDraw } from './scheduler.js';
@@ -81,6 +82,7 @@ function drawMap() {
   const dense = nKnown > 24;
   const now = performance.now();
   let decoding = 0;
+  const drawnLinks = [];  // i, j and both ends on screen per pair, for clicks (map-view.js linkAt)
   if (filter !== 'none') {
     const buckets = new Map();
     for (let i = 0; i < N; ++i) {
@@ -114,6 +116,7 @@ function drawMap() {
         let bucket = buckets.get(key);
         if (!bucket) buckets.set(key, (bucket = { cls, ci, wi, pts: [] }));
         bucket.pts.push(sx[i], sy[i], sx[j], sy[j]);
+        drawnLinks.push(i, j, sx[i], sy[i], sx[j], sy[j]);
       }
     }
     ctx.lineCap = 'round';
@@ -192,6 +195,35 @@ function drawMap() {
   }
   if (anyGlow && !fadeTimer) {  // keep fading between snapshots (one timer at a time)
     fadeTimer = setTimeout(() => { fadeTimer = 0; requestDraw('map'); }, 250);
+  }
+  state.mapLinks = drawnLinks;
+
+  // The link whose gain is plotted: a band with an arrowhead toward its receiver.
+  const lt = state.link ? state.indexOf.get(state.link[0]) : undefined;
+  const lr = state.link ? state.indexOf.get(state.link[1]) : undefined;
+  if (lt !== undefined && lr !== undefined && known[lt] && known[lr]) {
+    ctx.beginPath();
+    ctx.moveTo(sx[lt], sy[lt]);
+    ctx.lineTo(sx[lr], sy[lr]);
+    ctx.strokeStyle = 'rgba(255,214,90,.28)';
+    ctx.lineWidth = 9;
+    ctx.stroke();
+    ctx.strokeStyle = LINK_COLOUR;
+    ctx.lineWidth = 2;
+    ctx.stroke();
+    const dx = sx[lr] - sx[lt], dy = sy[lr] - sy[lt];
+    const len = Math.hypot(dx, dy);
+    if (len >= 3 * r) {
+      const ux = dx / len, uy = dy / len;
+      const tipX = sx[lr] - ux * (r + 4), tipY = sy[lr] - uy * (r + 4);
+      ctx.beginPath();
+      ctx.moveTo(tipX, tipY);
+      ctx.lineTo(tipX - ux * 12 - uy * 6, tipY - uy * 12 + ux * 6);
+      ctx.lineTo(tipX - ux * 12 + uy * 6, tipY - uy * 12 - ux * 6);
+      ctx.closePath();
+      ctx.fillStyle = LINK_COLOUR;
+      ctx.fill();
+    }
   }
 
   // Nodes and their ids.

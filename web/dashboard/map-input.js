@@ -1,6 +1,7 @@
-// Pointer input on the map: hover (tooltip), click to watch a node, drag a node
-// to move it in the emulator (with --dashboard-control), drag the background to
-// pan, wheel to zoom, double-click or Fit to fit all nodes.
+// Pointer input on the map: hover (tooltip), click to watch a node, click a
+// link to plot its gain (the end nearer the click transmits; link-plot.js),
+// drag a node to move it in the emulator (with --dashboard-control), drag the
+// background to pan, wheel to zoom, double-click or Fit to fit all nodes.
 //
 // A dragged node is drawn where the pointer put it (state.overrides) until a
 // snapshot agrees, so it does not jump back while the move is in flight.
@@ -8,7 +9,8 @@ import { controlOffText } from './control.js';
 import { send } from './connection.js';
 import { $ } from './dom.js';
 import { hideMapTooltip, showMapTooltip } from './map-tooltip.js';
-import { mapCanvas, nodeAt, nodeWorld, toScreenX, toScreenY, toWorld } from './map-view.js';
+import { toggleLink } from './link-plot.js';
+import { linkAt, mapCanvas, nodeAt, nodeWorld, toScreenX, toScreenY, toWorld } from './map-view.js';
 import { clamp } from './math.js';
 import { showMessage } from './messages.js';
 import { requestDraw } from './scheduler.js';
@@ -68,6 +70,7 @@ mapCanvas.addEventListener('pointermove', (e) => {
       mapCanvas.classList.toggle('over-node', id != null);
       requestDraw('map');
     }
+    mapCanvas.classList.toggle('over-link', id == null && linkAt(p.x, p.y) != null);
     state.hoverAt = p;
     showMapTooltip(id, p);
     return;
@@ -105,6 +108,10 @@ function endDrag(e, cancelled) {
   state.drag = null;
   mapCanvas.classList.remove('dragging', 'panning');
   if (mapCanvas.hasPointerCapture(e.pointerId)) mapCanvas.releasePointerCapture(e.pointerId);
+  if (d.kind === 'pan' && !d.moved && !cancelled) {
+    const hit = linkAt(d.start.x, d.start.y);
+    if (hit) toggleLink(state.ids[hit.i], state.ids[hit.j]);
+  }
   if (d.kind === 'node') {
     if (!d.moved && !cancelled) {
       select(d.id);

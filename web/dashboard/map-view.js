@@ -71,3 +71,23 @@ export function nodeCanvasPosition(id) {
   if (!p) return null;
   return { x: toScreenX(p.x), y: toScreenY(p.y) };
 }
+
+/** The link drawn nearest canvas point (px, py), within a few pixels: {i, j} with i the
+ *  end nearer the point (indices), or null. Only links the map draws now count. */
+export function linkAt(px, py) {
+  const L = state.mapLinks;
+  let best = null, bestD = 5 * 5;
+  for (let k = 0; k < L.length; k += 6) {
+    const x1 = L[k + 2], y1 = L[k + 3], x2 = L[k + 4], y2 = L[k + 5];
+    const dx = x2 - x1, dy = y2 - y1;
+    const len2 = dx * dx + dy * dy;
+    const f = len2 > 0 ? Math.max(0, Math.min(1, ((px - x1) * dx + (py - y1) * dy) / len2)) : 0;
+    const ex = x1 + f * dx - px, ey = y1 + f * dy - py;
+    const d = ex * ex + ey * ey;
+    if (d < bestD) {
+      bestD = d;
+      best = f <= 0.5 ? { i: L[k], j: L[k + 1] } : { i: L[k + 1], j: L[k] };
+    }
+  }
+  return best;
+}

@@ -1,12 +1,14 @@
 // The link matrix: a heat map of SNR, tx rows -> rx columns, dimmed where the
 // receiver does not decode, outlined where frames were decoded (white) or lost
 // (red) in the last ACTIVE_MS. Hovering a cell explains it; clicking one
-// watches its receiver.
+// plots its link's gain over time (link-plot.js) and watches its receiver;
+// clicking it again stops the plot.
 //
 // Performance: the N x N cells are one ImageData (a pixel per link) scaled up
 // by drawImage without smoothing, not N^2 fillRects.
 import { LUT, dimRgb } from './colour.js';
 import { $, el } from './dom.js';
+import { LINK_COLOUR, toggleLink } from './link-plot.js';
 import { clamp } from './math.js';
 import { registerDrawer, requestDraw } from './scheduler.js';
 import { select } from './selection.js';
@@ -116,6 +118,18 @@ function drawMatrix() {
     ctx.strokeRect(left - 0.5, top + si * cell - 0.5, N * cell + 1, cell + 1);
     ctx.strokeRect(left + si * cell - 0.5, top - 0.5, cell + 1, N * cell + 1);
   }
+  // The plotted link, and its reverse (drawn thinner in the plot too).
+  const lt = state.link ? state.indexOf.get(state.link[0]) : undefined;
+  const lr = state.link ? state.indexOf.get(state.link[1]) : undefined;
+  if (lt !== undefined && lr !== undefined) {
+    ctx.strokeStyle = LINK_COLOUR;
+    ctx.setLineDash([2, 2]);
+    ctx.lineWidth = 1;
+    ctx.strokeRect(left + lt * cell + 0.5, top + lr * cell + 0.5, cell - 1, cell - 1);
+    ctx.setLineDash([]);
+    ctx.lineWidth = 2.5;
+    ctx.strokeRect(left + lr * cell - 0.25, top + lt * cell - 0.25, cell + 0.5, cell + 0.5);
+  }
   if (state.matrixHover) {
     const [tx, rx] = state.matrixHover;
     ctx.strokeStyle = '#ffffff';
@@ -185,7 +199,16 @@ mx.surface.canvas.addEventListener('pointerleave', () => {
 });
 mx.surface.canvas.addEventListener('click', (e) => {
   const c = matrixCellAt(e);
-  if (c) select(state.ids[c[1]]);
+  if (!c) return;
+  const txId = state.ids[c[0]], rxId = state.ids[c[1]];
+  // The diagonal is no link: a click there only watches the node. A second
+  // click on the plotted link only stops the plot.
+  if (c[0] !== c[1] && !toggleLink(txId, rxId)) {
+    refreshMatrixTooltip();
+    return;
+  }
+  select(rxId);
+  refreshMatrixTooltip();
 });
 
 function showMatrixTooltip(tx, rx, px, py) {
@@ -210,6 +233,9 @@ function showMatrixTooltip(tx, rx, px, py) {
     if (txNode.phy !== rxNode.phy) {
       tip.append(el('br'), el('span', { class: 'muted' }, `${txNode.phy} → ${rxNode.phy}: different PHY types`));
     }
+    const plotted = state.link && state.link[0] === state.ids[tx] && state.link[1] === state.ids[rx];
+    tip.append(el('br'), el('span', { class: 'muted' },
+      plotted ? 'click: stop plotting its gain' : 'click: plot its gain, watch the receiver'));
   }
   tip.hidden = false;
   const boxW = matrixBox.clientWidth;

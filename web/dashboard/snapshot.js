@@ -1,10 +1,57 @@
 // Bookkeeping of the server's snapshots: the node set, which directed links
 // carried or lost frames recently (from the deltas of the cumulative per-link
-// counters), and the totals over time for the traffic plot. Views read the
-// results from `state`; this module touches no DOM.
+// counters), the totals over time for the traffic plot, and every link's SNR
+// over time for the link plot. Views read the results from `state`; this
+// module touches no DOM.
 import { state } from './state.js';
 
 const HISTORY_POINTS = 480;  // 2 minutes at 4 snapshots/s
+
+// The SNR history keeps one row of N^2 values per snapshot, as dB x 10 in an
+// Int16Array (the server rounds to 0.1 dB), in a ring: 3 minutes at 4
+// snapshots/s, fewer rows when N^2 x 720 would pass 4 Mi values (8 MB), so a
+// 64-node swarm keeps its 3 minutes in 6 MB and a bigger one less time in at
+// most 8 MB. Every link is kept, so a link clicked now shows its past at once.
+const SNR_ROWS = 720;
+const SNR_VALUES = 1 << 22;
+const NO_LINK = -32768;
+
+function newSnrHistory(n) {
+  const n2 = Math.max(1, n * n);
+  const cap = Math.max(2, Math.min(SNR_ROWS, Math.floor(SNR_VALUES / n2)));
+  return { n, cap, len: 0, next: 0, t: new Float64Array(cap), v: new Int16Array(cap * n2) };
+}
+
+/// Appends the snapshot's SNR matrix (carried over when the server left it out) at its virtual time.
+function recordSnr(s) {
+  const h = state.snrHistory;
+  const snr = s.links?.snr_db;
+  if (!h || !snr || s.links.n !== h.n || !Number.isFinite(s.virtual_s)) return;
+  if (h.len && !(s.virtual_s > h.t[(h.next + h.cap - 1) % h.cap])) return;  // no time passed
+  const n2 = h.n * h.n, row = h.next * n2;
+  for (let k = 0; k < n2; ++k) {
+    const x = snr[k];
+    h.v[row + k] = x == null ? NO_LINK : Math.max(-32767, Math.min(32767, Math.round(x * 10)));
+  }
+  h.t[h.next] = s.virtual_s;
+  h.next = (h.next + 1) % h.cap;
+  h.len = Math.min(h.len + 1, h.cap);
+}
+
+/** Link k's (tx * N + rx) recorded SNR, oldest first: {t: virtual s, db: dB or null (no link)}. */
+export function snrSeries(k) {
+  const h = state.snrHistory;
+  const out = { t: [], db: [] };
+  if (!h || k < 0 || k >= h.n * h.n) return out;
+  const n2 = h.n * h.n;
+  for (let r = 0; r < h.len; ++r) {
+    const row = (h.next - h.len + r + h.cap) % h.cap;
+    const v = h.v[row * n2 + k];
+    out.t.push(h.t[row]);
+    out.db.push(v === NO_LINK ? null : v / 10);
+  }
+  return out;
+}
 
 /// A usable position (the server sends null coordinates for non-finite ones).
 export const posOk = (p) => !!p && Number.isFinite(p.x) && Number.isFinite(p.y) && Number.isFinite(p.z);
@@ -20,6 +67,7 @@ export function setNodeIds(ids) {
   state.activeLost = new Float64Array(n2);
   state.history = [];
   state.linkWindow = [];
+  state.snrHistory = newSnrHistory(ids.length);
   return true;
 }
 
@@ -31,12 +79,14 @@ export function recordSnapshot(s) {
     state.linkWindow = [];
     state.activeRx.fill(0);
     state.activeLost.fill(0);
+    state.snrHistory = newSnrHistory(state.ids.length);
   }
   // The server re-sends the SNR matrix only when something moved.
   if (s.links && !s.links.snr_db && prev && prev.links && prev.links.n === s.links.n) {
     s.links.snr_db = prev.links.snr_db;
   }
   state.snap = s;
+  recordSnr(s);
 
   // A counter that grew since the previous snapshot marks its link active now.
   const now = performance.now();

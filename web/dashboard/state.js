@@ -28,6 +28,9 @@ export const state = {
   hover: null,        // node id under the pointer (map)
   hoverAt: null,      // ... and where the pointer is, to refresh the tooltip on new data
   matrixHover: null,  // [tx, rx] index
+  link: null,         // [tx id, rx id]: the link whose gain is plotted (link-plot.js)
+  snrHistory: null,   // every link's SNR per snapshot, the last few minutes (snapshot.js)
+  mapLinks: [],       // the map's links as drawn: i, j, x1, y1, x2, y2 per pair (map-draw.js)
   matrixHoverAt: null,
   view: { cx: 0, cy: 0, scale: 10 },
   autoFit: true,

@@ -1,6 +1,7 @@
 // window.rfsitlDashboard: a read-only view of the page for tests and automation
 // (tests/browser/*). Getters hand out copies, so a caller cannot change what the
 // page shows; the object is frozen and the property cannot be redefined.
+import { linkPlotDrawn } from './link-plot.js';
 import { mapCanvas, nodeCanvasPosition, toWorld } from './map-view.js';
 import { matrixCellCentre } from './matrix.js';
 import { ACTIVE_MS, state } from './state.js';
@@ -14,6 +15,10 @@ const api = {
   get connection() { return state.conn; },
   get control() { return state.control; },
   get selected() { return state.selected; },
+  /** The link whose gain is plotted: [tx id, rx id], or null. */
+  get link() { return state.link ? state.link.slice() : null; },
+  /** What the link plot drew last: {link, points, distinct, lo, hi, last} (null: no link drawn). */
+  linkPlot: linkPlotDrawn,
   get nodeIds() { return state.ids.slice(); },
   get spectrum() { return state.spectrum ? JSON.parse(JSON.stringify(state.spectrum)) : null; },
   get constellation() { return state.constellation ? JSON.parse(JSON.stringify(state.constellation)) : null; },

@@ -108,6 +108,18 @@ class ChannelMatrix {
   std::complex<double> fading_at(std::size_t tx, std::size_t rx, double t_s,
                                  std::size_t path) const;
 
+  /// The power gain of the link tx -> rx at virtual time t_s with the
+  /// time-varying stages included: what the link delivers at that moment,
+  /// where power_gain() is its large-scale value. |coefficient_at()|^2 for a
+  /// link of one path; for a dispersive link the sum over its paths p of
+  /// |path_gains[p] fading_at(tx, rx, t_s, p)|^2, its instantaneous total
+  /// power (the paths fade independently, so it is not path 0's fade applied
+  /// to the total). Exactly power_gain() when no stage is time-varying. Costs
+  /// one evaluation of the time-varying stages per path (a fading stage: M
+  /// sines and cosines and M Philox blocks each). Thread-safe against other
+  /// const calls.
+  float power_gain_at(std::size_t tx, std::size_t rx, double t_s) const;
+
  private:
   void recompute(std::size_t i);
   void recompute_response(std::size_t tx, std::size_t rx);

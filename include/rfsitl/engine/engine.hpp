@@ -87,7 +87,9 @@ class Engine : public position::PositionSink {
   /// Thread-safe copy of the current positions (nullopt: unknown), by index.
   virtual std::vector<std::optional<Ecef>> positions() const = 0;
 
-  /// Thread-safe copy of the link power gains |c_nm|^2, row-major [tx * N + rx].
+  /// Thread-safe copy of the link power gains, row-major [tx * N + rx]: |c_nm|^2,
+  /// or with time-varying stages the gains of the moment (fading included, on a
+  /// 100 ms grid of virtual time, computed by the caller's thread).
   virtual std::vector<float> link_gains() const = 0;
 
   /// Runs ticks on the calling thread until `stop` is set or the scenario's
