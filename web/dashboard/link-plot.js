@@ -8,6 +8,7 @@
 // click again, Clear or Escape drops it.
 import { $, setText } from './dom.js';
 import { niceStep } from './math.js';
+import { drawValueGrid } from './plot-grid.js';
 import { registerDrawer, requestDraw } from './scheduler.js';
 import { snrSeries } from './snapshot.js';
 import { Surface } from './surface.js';
@@ -124,20 +125,7 @@ function drawLink() {
   const Y = (v) => H - padB - (H - padT - padB) * ((v - lo) / (hi - lo));
 
   // Grid, dB labels on the left, time before now along the bottom.
-  ctx.strokeStyle = '#1f2833';
-  ctx.fillStyle = '#8793a4';
-  ctx.lineWidth = 1;
-  ctx.textAlign = 'right';
-  ctx.textBaseline = 'middle';
-  ctx.beginPath();
-  for (let v = lo; v <= hi + 1e-9; v += yStep) {
-    const y = Math.round(Y(v)) + 0.5;
-    ctx.moveTo(padL, y); ctx.lineTo(W - padR, y);
-    ctx.fillText(Number(v.toPrecision(4)).toString(), padL - 4, y);
-  }
-  ctx.stroke();
-  ctx.textAlign = 'center';
-  ctx.textBaseline = 'top';
+  drawValueGrid(ctx, { from: lo, to: hi, step: yStep, Y, left: padL, right: W - padR, digits: 4 });
   for (let a = 0; a <= span + 1e-9; a += tStep) {
     const x = X(tNow - a);
     ctx.textAlign = a === 0 ? 'right' : x - padL < 20 ? 'left' : 'center';

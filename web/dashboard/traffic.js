@@ -2,6 +2,7 @@
 // to 120 s (rates from consecutive snapshots' totals), and the totals line.
 import { $, setText } from './dom.js';
 import { clamp, niceStep } from './math.js';
+import { drawValueGrid } from './plot-grid.js';
 import { registerDrawer, requestDraw } from './scheduler.js';
 import { Surface } from './surface.js';
 import { state } from './state.js';
@@ -29,21 +30,8 @@ function drawTraffic() {
   ymax = Math.ceil(ymax / yStep) * yStep;
   const X = (t) => padL + (W - padL - padR) * (1 - (tNow - t) / span);
   const Y = (v) => H - padB - (H - padT - padB) * (v / ymax);
-  ctx.strokeStyle = '#1f2833';
-  ctx.fillStyle = '#8793a4';
   ctx.font = '10.5px system-ui, sans-serif';
-  ctx.lineWidth = 1;
-  ctx.textAlign = 'right';
-  ctx.textBaseline = 'middle';
-  ctx.beginPath();
-  for (let v = 0; v <= ymax + 1e-9; v += yStep) {
-    const y = Math.round(Y(v)) + 0.5;
-    ctx.moveTo(padL, y); ctx.lineTo(W - padR, y);
-    ctx.fillText(Number(v.toPrecision(3)).toString(), padL - 4, y);
-  }
-  ctx.stroke();
-  ctx.textAlign = 'center';
-  ctx.textBaseline = 'top';
+  drawValueGrid(ctx, { from: 0, to: ymax, step: yStep, Y, left: padL, right: W - padR, digits: 3 });
   for (let a = 0; a <= span; a += span / 4) ctx.fillText(a === 0 ? 'now' : `-${a} s`, X(tNow - a), H - padB + 4);
   for (const [key, colour] of [['d', '#5fd38d'], ['l', '#ff6b6b']]) {
     ctx.beginPath();
