@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -362,6 +364,39 @@ TEST(FadingDeterminism, SameSeedSameValueOtherSeedOrPositionOtherValue) {
   s.set("seed", std::uint64_t{777});
   EXPECT_EQ(make_stage(s, 555, 1)->gain(link(tx, rx)),
             fading::gain(defaults, kCarrierHz, 777, 1, tx, rx));
+}
+
+TEST(FadingDeterminism, TheStageKeepsItsDrawsAndGivesThePureGainsBitForBitFromAnyThread) {
+  // The stage keeps each link-path's draws after its first evaluation: the
+  // gains it gives, first or later, from four threads at once, equal the pure
+  // function's exactly, for both models and several paths.
+  for (const char* model : {"rayleigh", "rician"}) {
+    config::Settings s = find_channel_stage("fading")->info.defaults();
+    s.set("model", std::string(model));
+    const auto stage = make_stage(s, kSeed, 2);
+    const FadingSettings fs =
+        settings(std::string(model) == "rician" ? FadingModel::kRician : FadingModel::kRayleigh);
+    std::vector<std::thread> threads;
+    std::atomic<int> mismatches{0};
+    for (int t = 0; t < 4; ++t) {
+      threads.emplace_back([&, t] {
+        for (int round = 0; round < 3; ++round) {
+          for (std::size_t a = 0; a < 12; ++a) {
+            for (std::size_t p = 0; p < 3; ++p) {
+              const auto x = static_cast<double>(a);
+              const LinkEnd tx = at(mover(a, x, 2.0), 0.1 * round + 0.01 * t);
+              const LinkEnd rx = at(mover(a + 1, 30.0, -4.0 + x, 10.0), 0.1 * round);
+              LinkGeometry g = link(tx, rx);
+              g.path = p;
+              if (stage->gain(g) != fading::gain(fs, kCarrierHz, kSeed, 2, tx, rx, p)) ++mismatches;
+            }
+          }
+        }
+      });
+    }
+    for (auto& th : threads) th.join();
+    EXPECT_EQ(mismatches.load(), 0) << model;
+  }
 }
 
 // The mean of N products of independent unit-power circular gains is circular

@@ -33,11 +33,16 @@
 /// tag): a link's field is fixed for the run, whoever evaluates it, in any
 /// order. Links fade independently of each other and of their reverse.
 ///
-/// Cost: M Philox blocks and M + 3 M sines/cosines per evaluation, at every
-/// grid point of every link that carries a signal to a receiver that runs.
+/// Cost: M sines/cosines per evaluation, at every grid point of every link
+/// (and path) that carries a signal to a receiver that runs; the draws (M
+/// Philox blocks, 2 M sines/cosines) once per link and path, kept by the stage
+/// up to a memory bound (fading_stage.cpp), drawn again at each evaluation
+/// beyond it.
 #include <complex>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+#include <vector>
 
 #include "rfsitl/channel/channel_stage.hpp"
 #include "rfsitl/channel/link_geometry.hpp"
@@ -59,6 +64,27 @@ const config::Fields<FadingSettings>& fading_fields();
 ChannelStageComponent fading_component();
 
 namespace fading {
+
+/// One link-path's draws: each plane wave's departure and arrival directions
+/// (cos, sin of the azimuth) and phase, and the line-of-sight wave's phase
+/// (Rician, path 0 only). They depend only on (seed, stage position, tx, rx,
+/// path), so the stage keeps them per link instead of drawing them again at
+/// every evaluation (M Philox blocks and 2 M sines and cosines saved).
+struct Waves {
+  std::vector<std::complex<double>> departure;
+  std::vector<std::complex<double>> arrival;
+  std::vector<double> phase;
+  std::optional<double> los_phase;
+};
+
+/// The draws of path `path` of the link tx_index -> rx_index. Pure.
+Waves draw_waves(const FadingSettings& settings, std::uint64_t seed, std::size_t stage_position,
+                 std::size_t tx_index, std::size_t rx_index, std::size_t path);
+
+/// The gain h with the ends at tx.local and rx.local, from the link-path's
+/// draws: bit for bit the gain below for the same link and path. Pure.
+std::complex<double> gain(const FadingSettings& settings, double carrier_hz, const Waves& waves,
+                          const LinkEnd& tx, const LinkEnd& rx);
 
 /// The gain h of the link tx -> rx with its ends at tx.local and rx.local
 /// (velocities are not read: the caller extrapolates). `seed` is the one in
