@@ -5,7 +5,7 @@
 /// traffic, no acks; the same load as rfsitl_swarm_load's pings).
 ///
 ///   rfsitl_virtual_speed [--nodes 15] [--duration 60] [--csv FILE] [--no-skip]
-///                        [--fading rayleigh|rician] [--multipath tdl_a|tdl_b|tdl_c]
+///                        [--fading rayleigh|rician] [--multipath tdl_a|tdl_b|tdl_c|taps4]
 ///
 /// --fading adds that fading stage (its defaults: M = 32, a 10 kHz grid) after
 /// the paper's path loss, so the two speeds compare a flat and a faded channel.
@@ -17,6 +17,7 @@
 #include <random>
 #include <string>
 
+#include "rfsitl/config/record.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
@@ -63,7 +64,21 @@ scenario::Scenario build(const Options& o) {
       // Propagation delay, then the profile's taps (100 ns of delay spread).
       s.channel.stages.push_back(stage("delay"));
       scenario::StageChoice taps = stage("multipath");
-      taps.settings.set("profile", o.multipath);
+      if (o.multipath == "taps4") {
+        // Four taps 100 ns apart falling 3 dB each (as Colosseum's four
+        // non-zero taps per link).
+        config::Records four;
+        for (int i = 0; i < 4; ++i) {
+          config::Record r;
+          r.set("delay_ns", 100.0 * i);
+          r.set("gain_db", -3.0 * i);
+          four.push_back(r);
+        }
+        taps.settings.set("profile", std::string("taps"));
+        taps.settings.set("taps", four);
+      } else {
+        taps.settings.set("profile", o.multipath);
+      }
       s.channel.stages.push_back(taps);
     }
     if (!o.fading.empty()) {
@@ -111,7 +126,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-skip", o.no_skip, "Run every receiver every tick");
   app.add_option("--fading", o.fading, "Add a fading stage of this model (rayleigh, rician)");
   app.add_option("--multipath", o.multipath,
-                 "Add the delay stage and a multipath stage of this profile (tdl_a, tdl_b, tdl_c)");
+                 "Add the delay stage and a multipath stage of this profile (tdl_a, tdl_b, "
+                 "tdl_c, or taps4: four taps 100 ns apart, 3 dB apart)");
   app.add_option("--csv", o.csv, "Append one result row to this CSV (header if new)");
   CLI11_PARSE(app, argc, argv);
 
