@@ -51,11 +51,6 @@ class Channel {
   Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
           const GeodeticPosition& origin, const ChannelConfig& config);
 
-  /// The front end of receiver m (nullptr when receivers are ideal).
-  const FrontEnd* receiver_front_end(std::size_t m) const {
-    return rx_front_.empty() ? nullptr : &rx_front_[m];
-  }
-
   /// The links, kept in step with positions (engine thread).
   ChannelMatrix& matrix() { return matrix_; }
   const ChannelMatrix& matrix() const { return matrix_; }
