@@ -134,8 +134,9 @@ bool Channel::hears_signal(std::size_t m) const {
 
 void Channel::receive(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const {
   if (matrix_.dispersive()) {
-    gather_lags(m, first, s);
-    if (grid_samples_ > 0) {
+    const bool fading = grid_samples_ > 0;
+    gather_lags(m, first, !fading, s);
+    if (fading) {
       mix_fading_dispersive(m, first, y, s);
     } else {
       mix(s.inputs, s.coeffs, y);
@@ -169,8 +170,8 @@ void Channel::mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scra
 
 /// The dispersive links that reach m in this tick, one input per lag of their
 /// responses: s.links (the transmitters), s.bases (each lag's samples at the
-/// tick's first sample), and for the static case s.inputs and s.coeffs.
-void Channel::gather_lags(std::size_t m, std::size_t first, Scratch& s) const {
+/// tick's first sample), and `with_taps` (the static case) s.inputs and s.coeffs.
+void Channel::gather_lags(std::size_t m, std::size_t first, bool with_taps, Scratch& s) const {
   s.links.clear();
   s.bases.clear();
   s.inputs.clear();
@@ -184,6 +185,7 @@ void Channel::gather_lags(std::size_t m, std::size_t first, Scratch& s) const {
     const cf32* now = history_[n].data() + history_len_;
     for (std::size_t k = 0; k < r.lags.size(); ++k) {
       s.bases.push_back(now - r.lags[k]);
+      if (!with_taps) continue;  // mix_ramped computes its coefficients itself
       s.inputs.push_back(now - r.lags[k] + first);
       s.coeffs.push_back(r.taps[k] * g);
     }
@@ -257,10 +259,11 @@ void Channel::mix_fading_dispersive(std::size_t m, std::size_t first, std::span<
     for (const std::size_t n : s.links) {
       const LinkResponse& r = matrix_.response(n, m);
       const std::size_t lags = r.lags.size();
+      s.path_fading.resize(r.path_gains.size());
+      matrix_.fading_at(n, m, static_cast<double>(t) / fs, 0, s.path_fading);
       s.path_factor.resize(r.path_gains.size());
       for (std::size_t p = 0; p < r.path_gains.size(); ++p) {
-        s.path_factor[p] =
-            r.path_gains[p] * to_cf32(g * matrix_.fading_at(n, m, static_cast<double>(t) / fs, p));
+        s.path_factor[p] = r.path_gains[p] * to_cf32(g * s.path_fading[p]);
       }
       for (std::size_t k = 0; k < lags; ++k) {
         cf32 tap{};

@@ -78,10 +78,19 @@ cf32 ChannelMatrix::coefficient_at(std::size_t tx, std::size_t rx, double t_s) c
 
 std::complex<double> ChannelMatrix::fading_at(std::size_t tx, std::size_t rx, double t_s,
                                               std::size_t path) const {
-  if (!time_varying()) return 1.0;
+  std::complex<double> h = 1.0;
+  fading_at(tx, rx, t_s, path, std::span(&h, 1));
+  return h;
+}
+
+void ChannelMatrix::fading_at(std::size_t tx, std::size_t rx, double t_s, std::size_t first_path,
+                              std::span<std::complex<double>> out) const {
+  if (!time_varying()) {
+    std::fill(out.begin(), out.end(), std::complex<double>(1.0));
+    return;
+  }
   LinkGeometry g = geometry(tx, rx);
   g.time_s = t_s;
-  g.path = path;
   // Only `local` moves: the time-varying stages read nothing else.
   for (LinkEnd* end : {&g.tx, &g.rx}) {
     const double dt = t_s - stamp_s_[end->index];
@@ -89,7 +98,10 @@ std::complex<double> ChannelMatrix::fading_at(std::size_t tx, std::size_t rx, do
     end->local.y_m += end->velocity.north_mps * dt;
     end->local.z_m += end->velocity.up_mps * dt;
   }
-  return budget_->fading(g);
+  for (std::size_t p = 0; p < out.size(); ++p) {
+    g.path = first_path + p;
+    out[p] = budget_->fading(g);
+  }
 }
 
 float ChannelMatrix::power_gain_at(std::size_t tx, std::size_t rx, double t_s) const {
@@ -99,9 +111,11 @@ float ChannelMatrix::power_gain_at(std::size_t tx, std::size_t rx, double t_s) c
     // through to its coefficient: zero, or the node hearing itself.
     const LinkResponse& r = response(tx, rx);
     if (!r.path_gains.empty()) {
+      std::vector<std::complex<double>> h(r.path_gains.size());
+      fading_at(tx, rx, t_s, 0, h);
       double total = 0.0;
-      for (std::size_t p = 0; p < r.path_gains.size(); ++p) {
-        total += std::norm(std::complex<double>(r.path_gains[p]) * fading_at(tx, rx, t_s, p));
+      for (std::size_t p = 0; p < h.size(); ++p) {
+        total += std::norm(std::complex<double>(r.path_gains[p]) * h[p]);
       }
       return static_cast<float>(total);
     }

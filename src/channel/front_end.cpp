@@ -113,12 +113,16 @@ void FrontEnd::rotate(SampleTime first_sample, std::span<cf32> x) const {
   const double cycles = std::fmod(offset_hz_ / fs_ * static_cast<double>(first_sample), 1.0);
   std::complex<double> rot = std::polar(1.0, kTwoPi * cycles);
   const std::complex<double> step = std::polar(1.0, kTwoPi * offset_hz_ / fs_);
-  std::vector<double> phi;
+  // Per thread, not per call: receivers of different threads apply their
+  // front ends at once, and the sample path allocates nothing per tick.
+  thread_local std::vector<double> phi;
+  thread_local std::vector<cf32> draws;
+  phi.clear();
   if (per_sample_) {
     // The walk over the whole tick (so that a receiver that starts late in a
     // tick sees the same phase as one that ran all of it), then pinned to the
     // tick's end value.
-    std::vector<cf32> draws(tick_);
+    draws.resize(tick_);
     per_sample_->fill(draws, static_cast<std::uint64_t>(tick_start_));
     phi.resize(tick_ + 1);
     phi[0] = 0.0;

@@ -625,13 +625,10 @@ class LockStepEngine final : public Engine {
   // person reads the dashboard's 4 snapshots a second (fast fading, tens to
   // hundreds of Hz at drone speeds, is sampled there, never followed), so 10
   // steps a second of virtual time are more than anyone can watch, and each
-  // step evaluates the time-varying stages once per link and path, for a
-  // fading stage M (32 by default) sines, cosines and Philox blocks each:
-  // about 3 us per link and path on the 2-core development machine, 12 ms at
-  // N = 64 with flat links, P times that behind P taps. The engine thread
-  // evaluating them itself every 100 ms slowed a 15-node Rayleigh run in
-  // virtual time (bench/virtual_speed) from 42x to 34x real time, dashboard
-  // or not; so the reader pays instead, and only while someone reads.
+  // step evaluates the time-varying stages once per link and path (a fading
+  // stage: M sines and cosines each, 32 by default), N^2 P evaluations that
+  // the engine thread would pay whether anyone watches or not; so the reader
+  // pays instead, and only while someone reads.
   static constexpr double kFadedCopyPeriodS = 0.1;
   std::shared_ptr<const channel::ChannelMatrix> links_snapshot_;  // time-varying chains only
   mutable std::mutex faded_mutex_;  // the gains last computed from links_snapshot_:

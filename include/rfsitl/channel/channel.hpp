@@ -68,6 +68,7 @@ class Channel {
     std::vector<cf32> at_next;
     std::vector<cf32> ramp_start;
     std::vector<cf32> ramp_step;
+    std::vector<std::complex<double>> path_fading;
     std::vector<cf32> path_factor;
   };
 
@@ -94,7 +95,7 @@ class Channel {
 
  private:
   void mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
-  void gather_lags(std::size_t m, std::size_t first, Scratch& s) const;
+  void gather_lags(std::size_t m, std::size_t first, bool with_taps, Scratch& s) const;
   /// Adds the inputs s.bases[j] (at the tick's first sample) times coefficients
   /// that fill_at(t, out) gives at each grid time t, ramped between grid points.
   template <typename FillAt>

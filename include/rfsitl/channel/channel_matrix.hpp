@@ -108,6 +108,11 @@ class ChannelMatrix {
   std::complex<double> fading_at(std::size_t tx, std::size_t rx, double t_s,
                                  std::size_t path) const;
 
+  /// The same for paths first_path, first_path + 1, ... into `out` (one per
+  /// element), with the link's geometry built once for all of them.
+  void fading_at(std::size_t tx, std::size_t rx, double t_s, std::size_t first_path,
+                 std::span<std::complex<double>> out) const;
+
   /// The power gain of the link tx -> rx at virtual time t_s with the
   /// time-varying stages included: what the link delivers at that moment,
   /// where power_gain() is its large-scale value. |coefficient_at()|^2 for a
