@@ -33,6 +33,13 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kFlopsPerComplexMac = 8.0;
 constexpr int kRepeats = 5;  // median of this many timed runs
+// The fading mixer's traffic per complex MAC: the input sample, read once (its
+// output is read and written once per block of all inputs, not per input).
+constexpr double kRampedBytesPerMac = 8.0;
+// Its arithmetic: four FMAs per vector per input (the coefficient's re and im
+// ramped in the lanes, then the two products), twice the flat mixer's, so its
+// compute bound is half the FMA peak.
+constexpr double kRampedFmaFactor = 0.5;
 
 double elapsed_s(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
@@ -158,6 +165,123 @@ double measure_mix(std::size_t n, std::size_t b, double seconds, float* sink) {
   return median_rate(call, static_cast<double>(n * b), seconds);
 }
 
+/// Median complex MAC/s of channel::mix_rows: every one of n receivers mixes the
+/// same n inputs of b samples (a full tick of an N-node flat channel, each
+/// receiver's own input with coefficient 0 as in the engine); counted MACs are
+/// the nonzero ones, n * (n - 1) * b per call.
+double measure_mix_rows(std::size_t n, std::size_t b, double seconds, float* sink) {
+  std::mt19937 rng(static_cast<std::uint32_t>(n * 1000 + b + 1));
+  std::normal_distribution<float> g(0.0F, 1.0F);
+  std::vector<std::vector<cf32>> signals(n, std::vector<cf32>(b));
+  std::vector<const cf32*> inputs(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (auto& s : signals[i]) s = {g(rng), g(rng)};
+    inputs[i] = signals[i].data();
+  }
+  std::vector<cf32> coeffs(n * n);
+  for (std::size_t r = 0; r < n; ++r)
+    for (std::size_t i = 0; i < n; ++i)
+      coeffs[r * n + i] = r == i ? cf32{} : cf32{0.5F + 0.01F * static_cast<float>(i), -0.25F};
+  std::vector<std::vector<cf32>> outs(n, std::vector<cf32>(b));
+  std::vector<cf32*> ys(n);
+  for (std::size_t r = 0; r < n; ++r) ys[r] = outs[r].data();
+  const auto call = [&](long calls) {
+    const auto t0 = Clock::now();
+    for (long c = 0; c < calls; ++c) {
+      channel::mix_rows(inputs, coeffs, ys, b);
+      *sink += outs[static_cast<std::size_t>(c) % n][static_cast<std::size_t>(c) % b].real();
+    }
+    return elapsed_s(t0);
+  };
+  return median_rate(call, static_cast<double>(n * (n - 1) * b), seconds);
+}
+
+/// Signals of n inputs x b samples and their pointers, the same for every kernel.
+struct Inputs {
+  std::vector<std::vector<cf32>> signals;
+  std::vector<const cf32*> pointers;
+  Inputs(std::size_t n, std::size_t b) : signals(n, std::vector<cf32>(b)), pointers(n) {
+    std::mt19937 rng(static_cast<std::uint32_t>(n * 1000 + b + 2));
+    std::normal_distribution<float> g(0.0F, 1.0F);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (auto& v : signals[i]) v = {g(rng), g(rng)};
+      pointers[i] = signals[i].data();
+    }
+  }
+};
+
+/// The fading mixer (channel::mix_ramped_add): n inputs of b samples, each with
+/// a coefficient ramping across the block. Complex MAC/s.
+double measure_ramped(std::size_t n, std::size_t b, double seconds, float* sink) {
+  const Inputs in(n, b);
+  std::vector<cf32> start(n), step(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    start[i] = {0.5F + 0.01F * static_cast<float>(i), -0.25F};
+    step[i] = {1e-4F, -2e-4F};
+  }
+  std::vector<cf32> out(b);
+  const auto call = [&](long calls) {
+    const auto t0 = Clock::now();
+    for (long c = 0; c < calls; ++c) {
+      std::fill(out.begin(), out.end(), cf32{});
+      channel::mix_ramped_add(in.pointers, start, step, out);
+      *sink += out[static_cast<std::size_t>(c) % b].real();
+    }
+    return elapsed_s(t0);
+  };
+  return median_rate(call, static_cast<double>(n * b), seconds);
+}
+
+/// Bytes per second of reading the same n inputs of b samples once each, in
+/// 64-byte vectors (AVX-512 when the CPU has it, as the kernel): the fading
+/// mixer reads each input sample once per call (8 bytes per complex MAC) and
+/// writes its output once per block, so this bounds what it can reach.
+__attribute__((target("avx512f"))) float read_all_avx512(const std::vector<const cf32*>& xs,
+                                                         std::size_t b) {
+  __m512 acc[4] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps(),
+                   _mm512_setzero_ps()};
+  for (const cf32* x : xs) {
+    const float* f = reinterpret_cast<const float*>(x);
+    std::size_t j = 0;
+    for (; j + 64 <= 2 * b; j += 64) {
+      for (std::size_t k = 0; k < 4; ++k) {
+        acc[k] = _mm512_add_ps(acc[k], _mm512_loadu_ps(f + j + 16 * k));
+      }
+    }
+    for (; j + 16 <= 2 * b; j += 16) acc[0] = _mm512_add_ps(acc[0], _mm512_loadu_ps(f + j));
+    if (j < 2 * b) {
+      const auto mask = static_cast<__mmask16>((1U << (2 * b - j)) - 1);
+      acc[1] = _mm512_add_ps(acc[1], _mm512_maskz_loadu_ps(mask, f + j));
+    }
+  }
+  float lanes[16];
+  _mm512_storeu_ps(lanes,
+                   _mm512_add_ps(_mm512_add_ps(acc[0], acc[1]), _mm512_add_ps(acc[2], acc[3])));
+  return lanes[0];
+}
+
+float read_all_plain(const std::vector<const cf32*>& xs, std::size_t b) {
+  float acc[16] = {};
+  for (const cf32* x : xs) {
+    const float* f = reinterpret_cast<const float*>(x);
+    for (std::size_t j = 0; j < 2 * b; ++j) acc[j % 16] += f[j];
+  }
+  return acc[0];
+}
+
+double measure_read_bandwidth(std::size_t n, std::size_t b, double seconds, float* sink) {
+  const Inputs in(n, b);
+  const bool wide = __builtin_cpu_supports("avx512f");
+  const auto call = [&](long calls) {
+    const auto t0 = Clock::now();
+    for (long c = 0; c < calls; ++c) {
+      *sink += wide ? read_all_avx512(in.pointers, b) : read_all_plain(in.pointers, b);
+    }
+    return elapsed_s(t0);
+  };
+  return median_rate(call, static_cast<double>(n * b * sizeof(cf32)), seconds);
+}
+
 /// Noise samples per second added by NoiseSource::add_to to `b`-sample blocks.
 double measure_noise(std::size_t b, double seconds, float* sink) {
   const channel::NoiseSource noise(1, 0, 1.0F);
@@ -209,12 +333,13 @@ int main(int argc, char** argv) {
   const double peak_cmacs = best->flops / kFlopsPerComplexMac;
 
   std::ofstream out(csv);
-  out << "kind,name,n_inputs,block,cmac_per_s,gflops,fraction_of_peak,samples_per_s\n";
+  out << "kind,name,n_inputs,block,cmac_per_s,gflops,fraction_of_peak,samples_per_s,"
+         "memory_bound_cmac_per_s\n";
   for (const auto& p : peaks) {
     std::printf("peak %-11s %8.2f Gflop/s = %7.3f G complex-MAC/s\n", p.isa.c_str(), p.flops / 1e9,
                 p.flops / kFlopsPerComplexMac / 1e9);
     out << "peak," << p.isa << ",,," << p.flops / kFlopsPerComplexMac << "," << p.flops / 1e9 << ","
-        << p.flops / best->flops << ",\n";
+        << p.flops / best->flops << ",,\n";
   }
   for (const std::size_t b : blocks) {
     for (const std::size_t n : ns) {
@@ -222,13 +347,37 @@ int main(int argc, char** argv) {
       std::printf("mix N=%3zu B=%4zu %7.3f G complex-MAC/s = %5.1f%% of peak (%s)\n", n, b, r / 1e9,
                   100.0 * r / peak_cmacs, best->isa.c_str());
       out << "mix,channel::mix," << n << "," << b << "," << r << ","
-          << r * kFlopsPerComplexMac / 1e9 << "," << r / peak_cmacs << ",\n";
+          << r * kFlopsPerComplexMac / 1e9 << "," << r / peak_cmacs << ",,\n";
+    }
+  }
+  for (const std::size_t b : blocks) {
+    for (const std::size_t n : ns) {
+      const double r = measure_mix_rows(n, b, seconds, &sink);
+      std::printf("mix_rows N=%3zu B=%4zu %7.3f G complex-MAC/s = %5.1f%% of peak (%s)\n", n, b,
+                  r / 1e9, 100.0 * r / peak_cmacs, best->isa.c_str());
+      out << "mix,channel::mix_rows," << n << "," << b << "," << r << ","
+          << r * kFlopsPerComplexMac / 1e9 << "," << r / peak_cmacs << ",,\n";
+    }
+  }
+  for (const std::size_t b : blocks) {
+    for (const std::size_t n : ns) {
+      const double r = measure_ramped(n, b, seconds, &sink);
+      const double bw = measure_read_bandwidth(n, b, seconds, &sink);
+      const double bound = bw / kRampedBytesPerMac;
+      const double compute = kRampedFmaFactor * peak_cmacs;
+      std::printf(
+          "mix_ramped_add N=%3zu B=%4zu %7.3f G complex-MAC/s; memory bound %6.2f G/s (read "
+          "%5.1f GB/s / 8 B) = %5.1f%%; compute bound %6.2f G/s = %5.1f%%\n",
+          n, b, r / 1e9, bound / 1e9, bw / 1e9, 100.0 * r / bound, compute / 1e9,
+          100.0 * r / compute);
+      out << "ramped,channel::mix_ramped_add," << n << "," << b << "," << r << ","
+          << r * kFlopsPerComplexMac / 1e9 << "," << r / peak_cmacs << ",," << bound << "\n";
     }
   }
   for (const std::size_t b : blocks) {
     const double r = measure_noise(b, seconds, &sink);
     std::printf("noise B=%4zu %7.2f M samples/s = %5.1f ns/sample\n", b, r / 1e6, 1e9 / r);
-    out << "noise,channel::NoiseSource,," << b << ",,,," << r << "\n";
+    out << "noise,channel::NoiseSource,," << b << ",,,," << r << ",\n";
   }
   std::printf("mix_bench: wrote %s (checksum %g)\n", csv.c_str(), static_cast<double>(sink));
   return 0;

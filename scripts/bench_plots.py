@@ -137,10 +137,13 @@ def plot_mix(out):
     if not mixes:
         return
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for block in sorted({int(r["block"]) for r in mixes}):
-        sel = [r for r in mixes if int(r["block"]) == block]
-        ax.plot([int(r["n_inputs"]) for r in sel], [bc.num(r["cmac_per_s"]) / 1e9 for r in sel],
-                "o-", label=f"channel::mix, B = {block}")
+    for name in sorted({r["name"] for r in mixes}):
+        for block in sorted({int(r["block"]) for r in mixes}):
+            sel = [r for r in mixes if int(r["block"]) == block and r["name"] == name]
+            if sel:
+                ax.plot([int(r["n_inputs"]) for r in sel],
+                        [bc.num(r["cmac_per_s"]) / 1e9 for r in sel],
+                        "o-" if name == "channel::mix" else "s--", label=f"{name}, B = {block}")
     styles = iter(["--", "-.", ":", (0, (5, 1))])
     for p in peaks:
         ax.axhline(bc.num(p["cmac_per_s"]) / 1e9, color="k", linestyle=next(styles, "--"),

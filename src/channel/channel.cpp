@@ -1,6 +1,7 @@
 #include "rfsitl/channel/channel.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -146,12 +147,38 @@ void Channel::receive(std::size_t m, std::size_t first, std::span<cf32> y, Scrat
   } else {
     mix_flat(m, first, y, s);
   }
+  finish(m, first, y);
+}
+
+void Channel::finish(std::size_t m, std::size_t first, std::span<cf32> y) const {
   if (const auto& noise = noise_[m]) {
     noise->add_to(y, static_cast<std::uint64_t>(tick_start_) + first);
   } else if (shared_noise_) {
     for (std::size_t t = 0; t < y.size(); ++t) y[t] += shared_noise_buf_[first + t];
   }
   if (!rx_front_.empty()) rx_front_[m].apply(tick_start_ + static_cast<SampleTime>(first), y);
+}
+
+bool Channel::mixes_together(std::size_t min_inputs) const {
+  return !matrix_.dispersive() && grid_samples_ == 0 && active_.size() >= min_inputs;
+}
+
+void Channel::receive_together(std::span<const std::size_t> ms, std::span<cf32* const> ys,
+                               Scratch& s) const {
+  assert(ms.size() == ys.size() && ms.size() <= kMaxTogether);
+  // One row of coefficients per receiver over every active transmitter, zero
+  // for itself and for unknown links: mix_rows leaves out inputs zero for all.
+  s.inputs.clear();
+  s.coeffs.clear();
+  for (const Transmission& tx : active_) s.inputs.push_back(tx.samples);
+  const auto g = static_cast<float>(gain_);
+  for (const std::size_t m : ms) {
+    const auto row = matrix_.receiver_row(m);
+    for (const Transmission& tx : active_)
+      s.coeffs.push_back(tx.node == m ? cf32{} : row[tx.node] * g);
+  }
+  mix_rows(s.inputs, s.coeffs, ys, config_.tick_samples);
+  for (std::size_t j = 0; j < ms.size(); ++j) finish(ms[j], 0, {ys[j], config_.tick_samples});
 }
 
 void Channel::mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const {

@@ -5,65 +5,33 @@
 #include <cstddef>
 #include <vector>
 
+#include "mix_kernels.hpp"
+
 namespace rfsitl::channel {
 namespace {
 
-// The kernel works on the interleaved float view of std::complex<float>, which
-// the standard explicitly allows ([complex.numbers]: a cf32 array may be
-// accessed as an array of float with re at 2k and im at 2k+1). Writing the
-// complex product by hand keeps GCC from emitting the C99 Annex G NaN/Inf
-// fix-up call (__mulsc3) that std::complex operator* needs without -ffast-math.
-//
-// Register blocking: for each block of kBlock output samples the sum over all
-// inputs is kept in local accumulators and the output is written once, so the
-// memory traffic is one read of every input and one write of the output
-// (instead of a read-modify-write of the output per input). Clones for AVX2+FMA
-// and AVX-512 are selected at load time (GCC function multiversioning), so one
-// binary uses the widest vectors the CPU has. Not under ASan or TSan: the
-// clones' resolver runs while the dynamic loader relocates, before the
-// sanitizer's runtime is set up, and its instrumented code crashes there.
-constexpr std::size_t kBlock = 16;  // complex samples: 32 floats, 4 AVX2 registers
+using kernels::kMaxGroup;
 
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
-#define RFSITL_MIX_CLONES __attribute__((target_clones("default", "arch=haswell", "avx512f")))
-#else
-#define RFSITL_MIX_CLONES
-#endif
+/// The widest kernels this CPU runs, chosen once.
+struct Isa {
+  bool avx512 = false;
+  void (*mix)(const float* const*, const float*, std::size_t, float*,
+              std::size_t) = kernels::mix_scalar;
+};
 
-RFSITL_MIX_CLONES
-void mix_kernel(const float* const* __restrict xs, const float* __restrict cs, std::size_t n_in,
-                float* __restrict y, std::size_t n) {
-  std::size_t t = 0;
-  for (; t + kBlock <= n; t += kBlock) {
-    float acc[2 * kBlock] = {};
-    for (std::size_t i = 0; i < n_in; ++i) {
-      const float* __restrict x = xs[i] + 2 * t;
-      const float cr = cs[2 * i];
-      const float ci = cs[2 * i + 1];
-      for (std::size_t j = 0; j < 2 * kBlock; j += 2) {
-        acc[j] += cr * x[j] - ci * x[j + 1];
-        acc[j + 1] += cr * x[j + 1] + ci * x[j];
-      }
-    }
-    std::copy(acc, acc + 2 * kBlock, y + 2 * t);
+Isa pick_isa() {
+  Isa isa;
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f")) {
+    isa.avx512 = true;
+    isa.mix = kernels::mix_avx512;
+  } else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    isa.mix = kernels::mix_avx2;
   }
-  for (; t < n; ++t) {  // tail: same expression per sample, one at a time
-    float re = 0.0F;
-    float im = 0.0F;
-    for (std::size_t i = 0; i < n_in; ++i) {
-      const float* x = xs[i] + 2 * t;
-      re += cs[2 * i] * x[0] - cs[2 * i + 1] * x[1];
-      im += cs[2 * i] * x[1] + cs[2 * i + 1] * x[0];
-    }
-    y[2 * t] = re;
-    y[2 * t + 1] = im;
-  }
+  return isa;
 }
 
-// Inputs handed to the kernel per call (the emulator has at most 254 nodes, so
-// one group always suffices there); more are summed group by group.
-constexpr std::size_t kMaxGroup = 256;
+const Isa isa = pick_isa();
 
 }  // namespace
 
@@ -79,12 +47,12 @@ void mix(std::span<const cf32* const> inputs, std::span<const cf32> coeffs, std:
   const auto flush = [&] {
     if (k == 0) return;
     if (!written) {
-      mix_kernel(xs, cs, k, y, out.size());
+      isa.mix(xs, cs, k, y, out.size());
       written = true;
     } else {
       thread_local std::vector<cf32> partial;
       partial.resize(out.size());
-      mix_kernel(xs, cs, k, reinterpret_cast<float*>(partial.data()), out.size());
+      isa.mix(xs, cs, k, reinterpret_cast<float*>(partial.data()), out.size());
       for (std::size_t t = 0; t < out.size(); ++t) out[t] += partial[t];
     }
     k = 0;
@@ -103,11 +71,60 @@ void mix(std::span<const cf32* const> inputs, std::span<const cf32> coeffs, std:
   if (!written) std::fill(out.begin(), out.end(), cf32{0.0F, 0.0F});
 }
 
+void mix_rows(std::span<const cf32* const> inputs, std::span<const cf32> coeffs,
+              std::span<cf32* const> outs, std::size_t n) {
+  assert(coeffs.size() == inputs.size() * outs.size());
+  const std::size_t n_in = inputs.size();
+  const auto row = [&](std::size_t r) { return coeffs.subspan(r * n_in, n_in); };
+  if (!isa.avx512 || n_in > kMaxGroup) {
+    for (std::size_t r = 0; r < outs.size(); ++r) mix(inputs, row(r), {outs[r], n});
+    return;
+  }
+  constexpr std::size_t kRows = 4;
+  const float* xs[kMaxGroup];
+  float cs[2 * kRows * kMaxGroup];
+  for (std::size_t r0 = 0; r0 < outs.size(); r0 += kRows) {
+    const std::size_t rows = std::min(kRows, outs.size() - r0);
+    // Inputs whose coefficients are zero for every row of the group are left out.
+    // Inputs whose coefficients are zero for every row of the group are left out.
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < n_in; ++i) {
+      bool any = false;
+      for (std::size_t r = 0; r < rows; ++r) any = any || coeffs[(r0 + r) * n_in + i] != cf32{};
+      if (!any) continue;
+      xs[k] = reinterpret_cast<const float*>(inputs[i]);
+      for (std::size_t r = 0; r < rows; ++r) {
+        const cf32 c = coeffs[(r0 + r) * n_in + i];
+        cs[2 * (k * rows + r)] = c.real();
+        cs[2 * (k * rows + r) + 1] = c.imag();
+      }
+      ++k;
+    }
+    float* ys[kRows];
+    for (std::size_t r = 0; r < rows; ++r) ys[r] = reinterpret_cast<float*>(outs[r0 + r]);
+    if (k == 0) {
+      for (std::size_t r = 0; r < rows; ++r) std::fill_n(outs[r0 + r], n, cf32{0.0F, 0.0F});
+      continue;
+    }
+    kernels::mix_rows_avx512(xs, cs, k, rows, ys, n);
+  }
+}
+
 void mix_ramped_add(std::span<const cf32* const> inputs, std::span<const cf32> start,
                     std::span<const cf32> step, std::span<cf32> out) {
   assert(inputs.size() == start.size() && inputs.size() == step.size());
-  // Link by link: the ramps are short (one grid interval) and the links few
-  // (those of active transmitters), so the plain loop is what GCC vectorizes.
+  if (isa.avx512 && !out.empty()) {
+    for (std::size_t i0 = 0; i0 < inputs.size(); i0 += kMaxGroup) {
+      const std::size_t k = std::min(kMaxGroup, inputs.size() - i0);
+      const float* xs[kMaxGroup];
+      for (std::size_t i = 0; i < k; ++i) xs[i] = reinterpret_cast<const float*>(inputs[i0 + i]);
+      kernels::mix_ramped_avx512(xs, reinterpret_cast<const float*>(start.data() + i0),
+                                 reinterpret_cast<const float*>(step.data() + i0), k,
+                                 reinterpret_cast<float*>(out.data()), out.size());
+    }
+    return;
+  }
+  // Link by link: the plain loop, for CPUs without AVX-512.
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const float* __restrict x = reinterpret_cast<const float*>(inputs[i]);
     float* __restrict y = reinterpret_cast<float*>(out.data());

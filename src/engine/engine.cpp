@@ -1,6 +1,7 @@
 #include "rfsitl/engine/engine.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -113,10 +114,11 @@ class LockStepEngine final : public Engine {
       node.tx.assign(block_, cf32{});
       node.rx.assign(block_, cf32{});
       node.scratch.inputs.reserve(n);
-      node.scratch.coeffs.reserve(n);
+      node.scratch.coeffs.reserve(n * channel::Channel::kMaxTogether);
       active_.reserve(n);
       active_tx_.reserve(n);
       runnable_.reserve(n);
+      rx_groups_.reserve(n);
       node.decoded.reserve(8);
       if (s.nodes[i].initial_position) {
         channel_.set_position(i, channel::to_ecef(*s.nodes[i].initial_position, s.channel.origin));
@@ -401,12 +403,13 @@ class LockStepEngine final : public Engine {
     // Receivers that run are dealt round-robin to the workers: balanced whatever
     // their indices are. A few receivers that only hear noise (run because
     // skipping is off or someone watches them) cost less than waking the workers.
+    group_receivers();
     if (busy_receivers_ > 1 || runnable_.size() >= kSerialNoiseOnlyLimit) {
       pool_.run([this](std::size_t w) {
-        for (std::size_t j = w; j < runnable_.size(); j += pool_.size()) rx_phase(runnable_[j]);
+        for (std::size_t j = w; j < rx_groups_.size(); j += pool_.size()) rx_group(rx_groups_[j]);
       });
     } else {
-      for (const std::size_t m : runnable_) rx_phase(m);
+      for (const RxGroup& group : rx_groups_) rx_group(group);
     }
     handle_decodes();
     now_ += block_;
@@ -520,21 +523,66 @@ class LockStepEngine final : public Engine {
     }
   }
 
-  /// Per receiver, in parallel: y_m = g (sum_{n != m} c_nm x_n + eta_m) over the
-  /// samples after its own transmission, then decode.
-  void rx_phase(std::size_t m) {
+  /// Receivers whose inputs are mixed together (channel::mix_rows): with many
+  /// transmitters on the air each transmitter's samples are then read once per
+  /// group instead of once per receiver. Bit for bit the same inputs.
+  struct RxGroup {
+    std::array<std::size_t, channel::Channel::kMaxTogether> receivers{};
+    std::size_t size = 0;
+  };
+  /// Below this many transmitters on the air their samples fit in L1 and one
+  /// receiver at a time mixes as fast (rfsitl_mix_bench: mix against mix_rows).
+  static constexpr std::size_t kMixTogetherMinInputs = 24;
+
+  /// Serially: runnable_ as groups, in its order. Receivers that hear the
+  /// whole tick are grouped when the channel allows it; the rest alone.
+  void group_receivers() {
+    rx_groups_.clear();
+    const bool together = air_.mixes_together(kMixTogetherMinInputs);
+    RxGroup open;
+    for (const std::size_t m : runnable_) {
+      if (!together || first_receive_sample(nodes_[m]) != 0) {
+        rx_groups_.push_back(RxGroup{{m}, 1});
+        continue;
+      }
+      open.receivers[open.size++] = m;
+      if (open.size == open.receivers.size()) {
+        rx_groups_.push_back(open);
+        open.size = 0;
+      }
+    }
+    if (open.size > 0) rx_groups_.push_back(open);
+  }
+
+  /// Per group, in parallel: y_m = g (sum_{n != m} c_nm x_n + eta_m) over the
+  /// samples after m's own transmission, then m decodes.
+  void rx_group(const RxGroup& group) {
+    if (group.size == 1) {
+      const std::size_t m = group.receivers[0];
+      Node& node = nodes_[m];
+      const std::size_t first = first_receive_sample(node);
+      if (node.watched) std::fill_n(node.rx.begin(), first, cf32{});  // blanked: zeros
+      const std::span<cf32> y(node.rx.data() + first, block_ - first);
+      air_.receive(m, first, y, node.scratch);
+      decode(m, y);
+      return;
+    }
+    std::array<cf32*, channel::Channel::kMaxTogether> ys{};
+    for (std::size_t j = 0; j < group.size; ++j) ys[j] = nodes_[group.receivers[j]].rx.data();
+    const std::span<const std::size_t> ms(group.receivers.data(), group.size);
+    air_.receive_together(ms, {ys.data(), group.size}, nodes_[ms[0]].scratch);
+    for (const std::size_t m : ms) decode(m, nodes_[m].rx);
+  }
+
+  /// Receiver m decodes its input y, if it runs this tick.
+  void decode(std::size_t m, std::span<cf32> y) {
     Node& node = nodes_[m];
-    const bool run = node.rx_tick == Node::RxTick::kRan;
-    if (run && node.receiver_blanked) {
+    if (node.rx_tick != Node::RxTick::kRan) return;
+    if (node.receiver_blanked) {
       node.radio->reset_receiver();
       node.receiver_blanked = false;
     }
-    const std::size_t first = first_receive_sample(node);
-    const std::size_t len = block_ - first;
-    if (node.watched) std::fill_n(node.rx.begin(), first, cf32{});  // blanked: zeros
-    const std::span<cf32> y(node.rx.data() + first, len);
-    air_.receive(m, first, y, node.scratch);
-    if (run) node.radio->receive(y, node);
+    node.radio->receive(y, node);
   }
 
   void handle_decodes() {
@@ -595,6 +643,7 @@ class LockStepEngine final : public Engine {
   std::vector<std::size_t> active_;               // transmitters of the current tick
   std::vector<channel::Transmission> active_tx_;  // the same, with their samples
   std::vector<std::size_t> runnable_;             // receivers that run in the current tick
+  std::vector<RxGroup> rx_groups_;                // the same, as groups (group_receivers)
   std::size_t busy_receivers_ = 0;                // of those, the ones with more than noise to do
   static constexpr std::size_t kSerialTxLimit = 2;
   static constexpr std::size_t kSerialNoiseOnlyLimit = 8;

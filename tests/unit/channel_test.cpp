@@ -75,5 +75,48 @@ TEST(Channel, TheNoiseIsAFunctionOfTheSampleTimeNotOfTheCallOrder) {
   for (std::size_t t = 0; t < late.size(); ++t) EXPECT_EQ(late[t], whole[10 + t]) << t;
 }
 
+TEST(Channel, ReceiversMixedTogetherGetExactlyWhatEachGetsAlone) {
+  // 30 nodes on a line, all on the air (above the engine's threshold for
+  // grouping), receivers in groups of 1..4: each group's inputs, noise
+  // included, equal receive() for each receiver alone, bit for bit.
+  constexpr std::size_t kNodes = 30, kB = 250;
+  Channel ch(kNodes, make_paper_budget(2.0), kOrigin,
+             ChannelConfig{1e-6, false, 11, 1e6, kB, {}, {}});
+  for (std::size_t i = 0; i < kNodes; ++i) {
+    ch.matrix().set_position(i, local_to_ecef({5.0 * static_cast<double>(i), 0.0, 0.0}, kOrigin));
+  }
+  std::vector<std::vector<cf32>> x(kNodes, std::vector<cf32>(kB));
+  std::vector<Transmission> active;
+  for (std::size_t n = 0; n < kNodes; ++n) {
+    for (std::size_t t = 0; t < kB; ++t) {
+      x[n][t] = cf32{std::sin(0.1F * static_cast<float>(t + n)),
+                     std::cos(0.3F * static_cast<float>(t * n))};
+    }
+    active.push_back({n, x[n].data()});
+  }
+  ch.on_air(4 * kB, active);
+  ch.begin_tick(4 * kB, true);
+  ASSERT_TRUE(ch.mixes_together(kNodes));
+  EXPECT_FALSE(ch.mixes_together(kNodes + 1));
+  Channel::Scratch scratch;
+  for (std::size_t size = 1; size <= Channel::kMaxTogether; ++size) {
+    for (std::size_t m0 = 0; m0 + size <= kNodes; m0 += size) {
+      std::vector<std::size_t> ms;
+      std::vector<std::vector<cf32>> together(size, std::vector<cf32>(kB));
+      std::vector<cf32*> ys;
+      for (std::size_t j = 0; j < size; ++j) {
+        ms.push_back(m0 + j);
+        ys.push_back(together[j].data());
+      }
+      ch.receive_together(ms, ys, scratch);
+      for (std::size_t j = 0; j < size; ++j) {
+        std::vector<cf32> alone(kB);
+        ch.receive(ms[j], 0, alone, scratch);
+        ASSERT_EQ(together[j], alone) << "group of " << size << ", receiver " << ms[j];
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rfsitl::channel

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <vector>
 
 #include "rfsitl/channel/channel_matrix.hpp"
@@ -142,30 +143,116 @@ TEST(Mixer, MoreInputsThanOneKernelGroupAreAllSummed) {
   }
 }
 
+TEST(Mixer, MixRowsEqualsMixRowByRowBitForBit) {
+  // Several receivers at once must give each exactly what mix() gives it
+  // alone: the engine groups receivers by what else runs in the tick, and that
+  // must not change any receiver's input. Row counts 1..9 cover full groups of
+  // four and remainders; lengths cover whole blocks, short rests and masked
+  // tails; zeros on the diagonal (a receiver's own input), a column zero in
+  // every row, and scattered zeros cover the inputs left out.
+  std::uint32_t state = 12345;
+  const auto next = [&] {
+    state = state * 1664525U + 1013904223U;
+    return static_cast<float>(state >> 8) / static_cast<float>(1U << 24) - 0.5F;
+  };
+  for (const std::size_t n_in : {1u, 3u, 16u, 40u}) {
+    for (const std::size_t rows : {1u, 2u, 3u, 4u, 5u, 9u}) {
+      for (const std::size_t len : {1u, 7u, 8u, 10u, 23u, 24u, 31u, 250u, 1000u}) {
+        std::vector<std::vector<cf32>> x(n_in, std::vector<cf32>(len));
+        std::vector<const cf32*> inputs;
+        for (auto& v : x) {
+          for (auto& s : v) s = {next(), next()};
+          inputs.push_back(v.data());
+        }
+        std::vector<cf32> coeffs(rows * n_in);
+        for (std::size_t r = 0; r < rows; ++r) {
+          for (std::size_t i = 0; i < n_in; ++i) {
+            const bool zero = r == i || (n_in > 2 && i == 2) || (r + 3 * i) % 7 == 0;
+            coeffs[r * n_in + i] = zero ? cf32{} : cf32{next(), next()};
+          }
+        }
+        // Eight guard samples after each output: the masked tail writes none.
+        std::vector<std::vector<cf32>> outs(rows, std::vector<cf32>(len + 8, cf32{7.0F, 7.0F}));
+        std::vector<cf32*> ys;
+        for (auto& o : outs) ys.push_back(o.data());
+        mix_rows(inputs, coeffs, ys, len);
+        for (std::size_t r = 0; r < rows; ++r) {
+          for (std::size_t t = len; t < len + 8; ++t) ASSERT_EQ(outs[r][t], cf32(7.0F, 7.0F));
+          std::vector<cf32> alone(len);
+          mix(inputs, std::span<const cf32>(coeffs).subspan(r * n_in, n_in), alone);
+          for (std::size_t t = 0; t < len; ++t) {
+            // == on floats: +0 and -0 count as equal, any other difference fails.
+            ASSERT_EQ(outs[r][t], alone[t]) << "inputs " << n_in << " rows " << rows << " len "
+                                            << len << " row " << r << " t " << t;
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(Mixer, MixRowsMatchesTheReferenceSum) {
+  // mix_rows against std::complex<double> directly, not only against mix().
+  constexpr std::size_t kIn = 33, kRows = 6, kLen = 77;
+  std::vector<std::vector<cf32>> x(kIn, std::vector<cf32>(kLen));
+  std::vector<const cf32*> inputs;
+  for (std::size_t i = 0; i < kIn; ++i) {
+    for (std::size_t t = 0; t < kLen; ++t) {
+      x[i][t] =
+          cf32{std::sin(static_cast<float>(5 * t + i)), std::cos(static_cast<float>(t + 3 * i))};
+    }
+    inputs.push_back(x[i].data());
+  }
+  std::vector<cf32> coeffs(kRows * kIn);
+  for (std::size_t k = 0; k < coeffs.size(); ++k) {
+    coeffs[k] = cf32{0.01F * static_cast<float>(k % 13), -0.02F * static_cast<float>(k % 5)};
+  }
+  std::vector<std::vector<cf32>> outs(kRows, std::vector<cf32>(kLen));
+  std::vector<cf32*> ys;
+  for (auto& o : outs) ys.push_back(o.data());
+  mix_rows(inputs, coeffs, ys, kLen);
+  for (std::size_t r = 0; r < kRows; ++r) {
+    for (std::size_t t = 0; t < kLen; ++t) {
+      std::complex<double> want = 0.0;
+      for (std::size_t i = 0; i < kIn; ++i) {
+        want += std::complex<double>(coeffs[r * kIn + i]) * std::complex<double>(x[i][t]);
+      }
+      EXPECT_NEAR(outs[r][t].real(), want.real(), 1e-5) << "row " << r << " t " << t;
+      EXPECT_NEAR(outs[r][t].imag(), want.imag(), 1e-5) << "row " << r << " t " << t;
+    }
+  }
+}
+
 TEST(Mixer, RampedCoefficientsAddTheirLinearInterpolationToTheOutput) {
   // Two inputs whose coefficients ramp from `start` by `step` per sample,
-  // added onto an output that already holds something.
-  const std::size_t n = 37;
-  std::vector<cf32> x0(n), x1(n), out(n, cf32{0.5F, -0.25F});
-  for (std::size_t t = 0; t < n; ++t) {
-    const auto tf = static_cast<float>(t);
-    x0[t] = {std::cos(0.3F * tf), std::sin(0.3F * tf)};
-    x1[t] = {0.1F * tf, -1.0F};
-  }
-  const std::array<const cf32*, 2> inputs{x0.data(), x1.data()};
-  const std::array<cf32, 2> start{cf32{1.0F, 0.0F}, cf32{0.0F, 2.0F}};
-  const std::array<cf32, 2> step{cf32{-0.01F, 0.02F}, cf32{0.03F, 0.0F}};
-  mix_ramped_add(inputs, start, step, out);
-  for (std::size_t t = 0; t < n; ++t) {
-    const std::complex<double> c0 =
-        std::complex<double>(1.0, 0.0) + double(t) * std::complex<double>(-0.01, 0.02);
-    const std::complex<double> c1 =
-        std::complex<double>(0.0, 2.0) + double(t) * std::complex<double>(0.03, 0.0);
-    const std::complex<double> want = std::complex<double>(0.5, -0.25) +
-                                      c0 * std::complex<double>(x0[t]) +
-                                      c1 * std::complex<double>(x1[t]);
-    EXPECT_NEAR(out[t].real(), want.real(), 1e-4) << t;
-    EXPECT_NEAR(out[t].imag(), want.imag(), 1e-4) << t;
+  // added onto an output that already holds something. Lengths around the
+  // kernel's 48-sample block and its masked tails.
+  for (const std::size_t n : {1u, 5u, 8u, 37u, 48u, 49u, 100u, 250u}) {
+    std::vector<cf32> x0(n), x1(n), out(n, cf32{0.5F, -0.25F});
+    for (std::size_t t = 0; t < n; ++t) {
+      const auto tf = static_cast<float>(t);
+      x0[t] = {std::cos(0.3F * tf), std::sin(0.3F * tf)};
+      x1[t] = {0.01F * tf, -1.0F};
+    }
+    const std::array<const cf32*, 2> inputs{x0.data(), x1.data()};
+    const std::array<cf32, 2> start{cf32{1.0F, 0.0F}, cf32{0.0F, 2.0F}};
+    const std::array<cf32, 2> step{cf32{-0.001F, 0.002F}, cf32{0.003F, 0.0F}};
+    mix_ramped_add(inputs, start, step, out);
+    for (std::size_t t = 0; t < n; ++t) {
+      const std::complex<double> c0 =
+          std::complex<double>(1.0, 0.0) + double(t) * std::complex<double>(-0.001, 0.002);
+      const std::complex<double> c1 =
+          std::complex<double>(0.0, 2.0) + double(t) * std::complex<double>(0.003, 0.0);
+      const std::complex<double> want = std::complex<double>(0.5, -0.25) +
+                                        c0 * std::complex<double>(x0[t]) +
+                                        c1 * std::complex<double>(x1[t]);
+      EXPECT_NEAR(out[t].real(), want.real(), 1e-4) << "n " << n << " t " << t;
+      EXPECT_NEAR(out[t].imag(), want.imag(), 1e-4) << "n " << n << " t " << t;
+    }
+    // Past the span nothing is touched (the masked tail writes only its samples).
+    std::vector<cf32> guarded(n + 8, cf32{9.0F, 9.0F});
+    mix_ramped_add(inputs, start, step, std::span<cf32>(guarded).first(n));
+    for (std::size_t t = n; t < n + 8; ++t) EXPECT_EQ(guarded[t], cf32(9.0F, 9.0F)) << t;
   }
 }
 

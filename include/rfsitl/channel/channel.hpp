@@ -93,7 +93,23 @@ class Channel {
   /// receivers (const; each with its own scratch).
   void receive(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& scratch) const;
 
+  /// Whether receive_together() may be used this tick: a flat channel without
+  /// time-varying stages and at least `min_inputs` transmitters on the air
+  /// (below that the inputs fit in L1 and receive() mixes as fast).
+  bool mixes_together(std::size_t min_inputs) const;
+
+  /// receive(m, 0, ys[j], scratch) for every m = ms[j] at once, bit for bit the
+  /// same, with each transmitter's samples read once for all of them
+  /// (mix_rows). Preconditions: mixes_together() this tick; ms.size() ==
+  /// ys.size() <= kMaxTogether; each ys[j] has tick_samples samples and overlaps
+  /// no other. Thread-safe for disjoint sets of receivers.
+  static constexpr std::size_t kMaxTogether = 4;
+  void receive_together(std::span<const std::size_t> ms, std::span<cf32* const> ys,
+                        Scratch& scratch) const;
+
  private:
+  /// Receiver m's noise and front end, after its mix.
+  void finish(std::size_t m, std::size_t first, std::span<cf32> y) const;
   void mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
   void gather_lags(std::size_t m, std::size_t first, bool with_taps, Scratch& s) const;
   /// Adds the inputs s.bases[j] (at the tick's first sample) times coefficients

@@ -1,0 +1,50 @@
+#pragma once
+// The mixer's kernels, one file per instruction set (mixer.cpp picks one from
+// the CPU's features; x86-64, as the whole build). Internal to the channel
+// module.
+//
+// The kernels work on the interleaved float view of std::complex<float>, which
+// the standard explicitly allows ([complex.numbers]: a cf32 array may be
+// accessed as an array of float with re at 2k and im at 2k+1). Writing the
+// complex product by hand keeps GCC from emitting the C99 Annex G NaN/Inf
+// fix-up call (__mulsc3) that std::complex operator* needs without -ffast-math.
+//
+// Register blocking: for each block of output samples the sum over all inputs
+// is kept in registers and the output is written once, so the memory traffic is
+// one read of every input and one write of the output (instead of a
+// read-modify-write of the output per input).
+//
+// The SIMD kernels keep re and im interleaved and need no shuffle per input:
+// with x = (xr, xi) pairs, they sum a += c_re * x and b += c_im * x over the
+// inputs (two independent FMAs per vector, the FMA peak's own instruction mix),
+// and only at the end of a block form y = a + (-b_im, b_re): one shuffle per
+// output vector, since exchanging re and im commutes with the sum. Each input's
+// block is several cache lines long so that the hardware prefetcher follows it.
+// mixer.cpp chooses the kernel once from the CPU's features (a plain function
+// pointer, not an ifunc, so it works under the sanitizers too).
+#include <cstddef>
+
+namespace rfsitl::channel::kernels {
+
+/// Inputs handed to a kernel per call (the emulator has at most 254 nodes, so
+/// one group always suffices there); mix() sums more group by group.
+constexpr std::size_t kMaxGroup = 256;
+
+/// y[t] = sum_i (cs[2i] + j cs[2i+1]) xs[i][t] for t < n, interleaved floats.
+/// Preconditions: n_in <= kMaxGroup; y overlaps no input.
+void mix_scalar(const float* const* xs, const float* cs, std::size_t n_in, float* y, std::size_t n);
+void mix_avx2(const float* const* xs, const float* cs, std::size_t n_in, float* y, std::size_t n);
+void mix_avx512(const float* const* xs, const float* cs, std::size_t n_in, float* y, std::size_t n);
+
+/// ys[r][t] = sum_i (cs[2(i rows + r)] + j cs[2(i rows + r) + 1]) xs[i][t] for
+/// r < rows <= 4 (each input's row coefficients side by side), bit for bit
+/// mix_avx512 of each row. Preconditions: as mix_avx512; no y overlaps another.
+void mix_rows_avx512(const float* const* xs, const float* cs, std::size_t n_in, std::size_t rows,
+                     float* const* ys, std::size_t n);
+
+/// y[t] += sum_i (c0_i + t d_i) xs[i][t] for t < n, coefficients interleaved
+/// like cs. Preconditions: as mix_avx512.
+void mix_ramped_avx512(const float* const* xs, const float* c0, const float* d, std::size_t n_in,
+                       float* y, std::size_t n);
+
+}  // namespace rfsitl::channel::kernels
