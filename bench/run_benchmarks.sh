@@ -2,23 +2,27 @@
 # The benchmark suite: set up, build (release), measure, and write CSV files, PNG
 # plots and summary.md into out/bench/ (the paper's numbers beside ours).
 #
-#   bash bench/run_benchmarks.sh            # full run, about 9 minutes on 2 cores, plus up
-#                                           # to 3 for fading_per
+#   bash bench/run_benchmarks.sh            # full run, about 13 minutes on 2 cores, plus
+#                                           # up to 3 for fading_per
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity virtual mobility mix dashboard overload fading_per" by
-# default; any subset):
+# Stages (STAGES="fig4 fig5 capacity capacity_fading virtual mobility mix stage_cost dashboard
+# overload fading_per" by default; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
 #             real time (rfsitl_swarm_load); largest N that keeps real time (definition:
 #             scripts/bench_collect.py) and its delivery ratio
+#   capacity_fading  the same with the delay stage, four taps and Rician fading on every
+#             tap of every link (a scenario with `nodes: N`), N = CAPF_NODES
 #   virtual   simulated seconds per wall second, VIRT_NODES nodes, 1 frame/node/s
 #   mobility  share of the wall time spent moving MOB_NODES random-waypoint nodes in
 #             virtual time, every node pinging a random node once a second (frame and
 #             scheduled answer), at 10 ms and 1 ms updates (rfsitl_mobility_share)
 #   mix       channel::mix complex MAC/s beside the CPU's measured peak
+#   stage_cost each channel stage's cost on the channel alone: ns per link and sample,
+#             ns per link recomputed when a node moves (rfsitl_stage_cost)
 #   dashboard CPU, peak memory and lag of a DASH_NODES-node run with the dashboard off,
 #             on, and with 1 and 4 WebSocket viewers (bench/dashboard_cost.py)
 #   overload  64 nodes flooding frames for OVL_SECONDS with 500 idle connections and 4 slow
@@ -32,6 +36,7 @@
 #             not the run, when a gap exceeds 1 dB)
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
+#   CAPF_NODES="32 48 64"
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
 #   MIX_SECONDS=0.2  OVL_SECONDS=60  FADING_FRAMES=20000  PORT_BASE=20000
 #   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)
@@ -43,16 +48,18 @@ T_START=$(date +%s)
 
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
-  D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
+  D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAPF="16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
   D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15 D_FADING=2000
 else
-  D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAP_S=60
+  D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAPF="32 48 64"
+  D_CAP_S=60
   D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000
 fi
 OUT="${OUT:-out/bench}"
 COUNT="${COUNT:-$D_COUNT}"
 FIG5_NODES="${FIG5_NODES:-$D_FIG5}"
 CAP_NODES="${CAP_NODES:-$D_CAP}"
+CAPF_NODES="${CAPF_NODES:-$D_CAPF}"
 CAP_SECONDS="${CAP_SECONDS:-$D_CAP_S}"
 VIRT_NODES="${VIRT_NODES:-15}"
 VIRT_SECONDS="${VIRT_SECONDS:-$D_VIRT_S}"
@@ -60,7 +67,7 @@ MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
 MOB_NODES="${MOB_NODES:-64}"
 MOB_SECONDS="${MOB_SECONDS:-$D_MOB_S}"  # virtual seconds at 10 ms, at 1 ms
 PORT_BASE="${PORT_BASE:-20000}"
-STAGES="${STAGES-fig4 fig5 capacity virtual mobility mix dashboard overload fading_per}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity capacity_fading virtual mobility mix stage_cost dashboard overload fading_per}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 OVL_SECONDS="${OVL_SECONDS:-$D_OVL_S}"
@@ -229,19 +236,27 @@ if stage fig5; then
   mark fig5
 fi
 
-if stage capacity; then
-  echo "== Capacity: every node pings a random other node once per second, $CAP_SECONDS s" \
-    "of real time, N = $CAP_NODES"
-  rm -f "$OUT/capacity.csv"
-  for n in $CAP_NODES; do
-    log="$OUT/capacity/emulator_$n.log" json="$OUT/capacity/summary_$n.json"
-    load="$OUT/capacity/load_$n.json"
+# capacity_run NAME NODES [SCENARIO_OF_N]: the capacity loop, one row per N into
+# $OUT/NAME.csv, logs in $OUT/NAME/. SCENARIO_OF_N, if given, is a function that
+# writes the scenario file for N nodes and prints its path; otherwise --nodes N.
+capacity_run() {
+  local name="$1" nodes="$2" scenario_of="${3:-}"
+  mkdir -p "$OUT/$name"
+  rm -f "$OUT/$name.csv"
+  for n in $nodes; do
+    log="$OUT/$name/emulator_$n.log" json="$OUT/$name/summary_$n.json"
+    load="$OUT/$name/load_$n.json"
     rm -f "$json" "$load"
     from=0 to=0
-    if start_emulator "$log" "$json" --nodes "$n"; then
+    if [ -n "$scenario_of" ]; then
+      set -- "$("$scenario_of" "$n")"
+    else
+      set -- --nodes "$n"
+    fi
+    if start_emulator "$log" "$json" "$@"; then
       from=$(wc -l <"$log")
       "$BENCH"/rfsitl_swarm_load --nodes "$n" --net-base "$NET_BASE" --duration "$CAP_SECONDS" \
-        --seed "$n" --json "$load" --csv "$OUT/capacity/pings_$n.csv" ||
+        --seed "$n" --json "$load" --csv "$OUT/$name/pings_$n.csv" ||
         echo "bench: load at N=$n failed"
       to=$(wc -l <"$log")
     fi
@@ -249,9 +264,47 @@ if stage capacity; then
     "$PY" scripts/bench_collect.py capacity-row --n "$n" --load-json "$load" --emu-log "$log" \
       --from-line "$((from + 1))" --to-line "$to" --load-seconds "$CAP_SECONDS" \
       --summary-json "$json" \
-      --floor-ms "$FLOOR_MS" --out "$OUT/capacity.csv" --lag-csv "$OUT/capacity/lag_$n.csv"
+      --floor-ms "$FLOOR_MS" --out "$OUT/$name.csv" --lag-csv "$OUT/$name/lag_$n.csv"
   done
+}
+
+# The capacity_fading scenario for N nodes: the default formation and the
+# paper's path loss, then the delay stage, four taps 100 ns and 3 dB apart
+# (Colosseum's four non-zero taps per link) and Rician fading (K = 6 dB, 32
+# sinusoids on a 10 kHz grid) on every tap of every link.
+fading_scenario_of() {
+  local file="$OUT/capacity_fading/scenario_$1.yaml"
+  cat >"$file" <<YAML
+name: capacity-fading-$1
+channel:
+  stages:
+    - {type: path_loss, model: paper}
+    - {type: delay}
+    - type: multipath
+      profile: taps
+      taps:
+        - {delay_ns: 0, gain_db: 0}
+        - {delay_ns: 100, gain_db: -3}
+        - {delay_ns: 200, gain_db: -6}
+        - {delay_ns: 300, gain_db: -9}
+    - {type: fading, model: rician, k_db: 6}
+nodes: $1
+YAML
+  echo "$file"
+}
+
+if stage capacity; then
+  echo "== Capacity: every node pings a random other node once per second, $CAP_SECONDS s" \
+    "of real time, N = $CAP_NODES"
+  capacity_run capacity "$CAP_NODES"
   mark capacity
+fi
+
+if stage capacity_fading; then
+  echo "== Capacity with 4-tap Rician fading on every link: the same load, N = $CAPF_NODES"
+  mkdir -p "$OUT/capacity_fading"
+  capacity_run capacity_fading "$CAPF_NODES" fading_scenario_of
+  mark capacity_fading
 fi
 
 if stage virtual; then
@@ -281,6 +334,12 @@ if stage mix; then
   echo "== Mixing kernel against the CPU's peak"
   "$BENCH"/rfsitl_mix_bench --seconds "$MIX_SECONDS" --csv "$OUT/mix_kernel.csv"
   mark mix
+fi
+
+if stage stage_cost; then
+  echo "== Channel stages: ns per link and sample, ns per link update"
+  "$BENCH"/rfsitl_stage_cost --csv "$OUT/stage_cost.csv"
+  mark stage_cost
 fi
 
 if stage dashboard; then

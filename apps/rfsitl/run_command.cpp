@@ -490,7 +490,7 @@ int run(const RunOptions& o) {
   print_summary(*engine);
   if (external) print_external_summary(*external);
   if (summary_out.is_open()) {
-    nlohmann::json j = monitor::stats_json(s, *engine, sources->status_fn());
+    nlohmann::json j = monitor::stats_with_links_json(s, *engine, sources->status_fn());
     if (external) j["external"] = external->summary();
     if (pcap) j["pcap"] = pcap->summary();
     if (sigmf) j["sigmf"] = sigmf->summary();

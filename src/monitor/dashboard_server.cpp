@@ -446,7 +446,7 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
     }
     if (target == "/api/stats") {
       return reply(http::status::ok, "application/json",
-                   json_text(stats_json(scenario_, engine_, settings_.sources)));
+                   json_text(stats_with_links_json(scenario_, engine_, settings_.sources)));
     }
     if (target == "/api/snapshot") {
       return reply(http::status::ok, "application/json",

@@ -69,6 +69,21 @@ nlohmann::json source_json(const scenario::Scenario& s, std::size_t i,
   return j;
 }
 
+/// 10 log10(gain / reference) per link, row-major, rounded to 0.1 dB; null for
+/// a node itself, no link, or no reference (a noise-free channel's SNR).
+nlohmann::json link_matrix_db(const std::vector<float>& gains, std::size_t n, double reference) {
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t k = 0; k < n * n && k < gains.size(); ++k) {
+    const bool self = k / n == k % n;
+    if (self || gains[k] <= 0.0F || reference <= 0.0) {
+      out.push_back(nullptr);
+    } else {
+      out.push_back(round_to(10.0 * std::log10(gains[k] / reference), 1));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e,
@@ -120,18 +135,18 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
   const auto outcomes = view.link_outcomes();
   j["links"] = {{"n", n}, {"received", outcomes.received}, {"lost", outcomes.lost}};
   if (!with_snr) return j;
+  j["links"]["snr_db"] = link_matrix_db(e.link_gains(), n, s.channel.noise_variance);
+  return j;
+}
+
+nlohmann::json stats_with_links_json(const scenario::Scenario& s, engine::Engine& e,
+                                     const position::SourceStatusFn& sources) {
+  nlohmann::json j = stats_json(s, e, sources);
+  const std::size_t n = e.num_nodes();
   const auto gains = e.link_gains();
-  const double noise = s.channel.noise_variance;
-  nlohmann::json snr = nlohmann::json::array();
-  for (std::size_t k = 0; k < n * n && k < gains.size(); ++k) {
-    const bool self = k / n == k % n;
-    if (self || gains[k] <= 0.0F || noise <= 0.0) {
-      snr.push_back(nullptr);
-    } else {
-      snr.push_back(round_to(10.0 * std::log10(gains[k] / noise), 1));
-    }
-  }
-  j["links"]["snr_db"] = std::move(snr);
+  j["links"] = {{"n", n},
+                {"gain_db", link_matrix_db(gains, n, 1.0)},
+                {"snr_db", link_matrix_db(gains, n, s.channel.noise_variance)}};
   return j;
 }
 

@@ -31,6 +31,7 @@
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
+#include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
 #include "scenario_rules.hpp"
 #include "yaml_reading.hpp"
@@ -220,7 +221,15 @@ Scenario read_scenario(Context& c, const YAML::Node& root) {
   const Entry traffic = sec.take("traffic");
   sec.finish();  // a misspelt key (`nodez:`) is named before `nodes` is missed
   if (!nodes) c.fail("nodes", "required");
-  for_each_item(c, nodes, [&](const Entry& e) { s.nodes.push_back(read_node(c, e, s.phy)); });
+  if (nodes.value.IsScalar()) {
+    // `nodes: 64`: the default formation (a grid where every link decodes, ids
+    // 1..N, placed once), for scenarios about the channel or the PHY rather
+    // than about where the vehicles are.
+    c.record(nodes.key, line_of(nodes.value));
+    s.nodes = default_formation(integer(c, nodes, kNodeIdLimit), s.channel);
+  } else {
+    for_each_item(c, nodes, [&](const Entry& e) { s.nodes.push_back(read_node(c, e, s.phy)); });
+  }
   for_each_item(c, traffic, [&](const Entry& e) { s.traffic.push_back(read_traffic_item(c, e)); });
   return s;
 }

@@ -1,6 +1,8 @@
 // Scenario files: every value read, every default kept, and every mistake reported as
 // "<source>:<line>: <key>: <reason>" with the exact line.
 #include "rfsitl/scenario/scenario_loader.hpp"
+
+#include "rfsitl/scenario/default_formation.hpp"
 #include "scenario_errors.hpp"
 
 #include <gtest/gtest.h>
@@ -16,6 +18,7 @@
 #include <variant>
 
 #include "rfsitl/registry/phy_registry.hpp"
+#include "rfsitl/scenario/default_formation.hpp"
 
 namespace rfsitl::scenario {
 namespace {
@@ -276,6 +279,31 @@ TEST(ParseScenario, ExternalSectionAndProcessesAreRead) {
   EXPECT_FALSE(s.runs_externally(2));
   EXPECT_EQ(s.phy_of(0).process, Process::kChild);
   EXPECT_EQ(s.phy_of(2).process, Process::kInline);
+}
+
+TEST(ParseScenario, ANodeCountPlacesTheDefaultFormation) {
+  const Scenario s = parse_scenario(
+      "radio: {carrier_hz: 2.4e9}\nchannel:\n  stages:\n    - {type: path_loss, model: "
+      "free_space}\nnodes: 9\ntraffic:\n  - {at_s: 0, src: 9, dst: 1}\n",
+      "t.yaml");
+  const auto want = default_formation(9, s.channel);
+  ASSERT_EQ(s.nodes.size(), 9u);
+  for (std::size_t i = 0; i < 9; ++i) {
+    EXPECT_EQ(s.nodes[i].id, i + 1);
+    ASSERT_TRUE(s.nodes[i].initial_position.has_value());
+    const auto& got = std::get<LocalPosition>(*s.nodes[i].initial_position);
+    const auto& placed = std::get<LocalPosition>(*want[i].initial_position);
+    EXPECT_EQ(got.x_m, placed.x_m);
+    EXPECT_EQ(got.y_m, placed.y_m);
+    EXPECT_EQ(got.z_m, placed.z_m);
+  }
+  EXPECT_EQ(parse_error_of("nodes: 0\n"), "t.yaml:1: nodes: must be in 1..254, got 0");
+  EXPECT_EQ(parse_error_of("nodes: 255\n"), "t.yaml:1: nodes: must be in 1..254, got 255");
+  EXPECT_NE(parse_error_of("nodes: six\n").find("t.yaml:1: nodes:"), std::string::npos);
+  // Traffic is checked against the formation's ids like against listed nodes.
+  EXPECT_NE(parse_error_of("nodes: 2\ntraffic:\n  - {at_s: 0, src: 3, dst: 1}\n")
+                .find("t.yaml:3: traffic[0].src"),
+            std::string::npos);
 }
 
 TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {

@@ -22,6 +22,15 @@ namespace rfsitl::monitor {
 nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e,
                           const position::SourceStatusFn& sources = {});
 
+/// stats_json plus `links`: {n, gain_db, snr_db}, row-major [tx * n + rx], each
+/// link's power gain |c|^2 in dB (with a `radio` section the received power in
+/// dBm) and its SNR, fading included (the gains of the moment, as the
+/// dashboard's matrix); null for a node itself and where there is no link. The
+/// /api/stats and --summary-json document. Computing the faded gains costs the
+/// caller's thread O(N^2) fading evaluations.
+nlohmann::json stats_with_links_json(const scenario::Scenario& s, engine::Engine& e,
+                                     const position::SourceStatusFn& sources = {});
+
 /// stats_json plus the link matrix as
 /// SNR in dB (null: no link; left out when `with_snr` is false, for viewers
 /// that have it and nothing moved), each receiver's sensitivity, and the
