@@ -27,6 +27,29 @@ w('net_framing', 'ping_80_bytes', hdr(0xF800, 3) + b'\x01\x02' + bytes(range(80)
 w('net_framing', 'oversized_resync', hdr(8, 1) + b'\x01\x02' + b'x' * 20 + T + b'\x03\x04ok' + T)
 w('net_framing', 'too_short_and_split_terminator', hdr(16, 9) + b'\x05' + T + b'\x01\x02ab\r\r' + b'\n\n')
 
+# ethernet_frame: [self id][node-id bitmap, 32 bytes][MTU u16 be][frame]
+def eth_hdr(self_id, ids, mtu):
+    bitmap = bytearray(32)
+    for i in ids:
+        bitmap[i // 8] |= 1 << (i % 8)
+    return bytes([self_id]) + bytes(bitmap) + struct.pack('>H', mtu)
+
+
+def mac(i):
+    return bytes([2, 0, 0, 0, 0, i])
+
+
+ARP_REQUEST = (b'\xff' * 6 + mac(1) + b'\x08\x06' + bytes.fromhex('0001080006040001') + mac(1) +
+               bytes([10, 77, 0, 1]) + bytes(6) + bytes([10, 77, 0, 2]))
+w('ethernet_frame', 'arp_request', eth_hdr(1, [1, 2, 3], 2033) + ARP_REQUEST)
+w('ethernet_frame', 'ipv4_unicast', eth_hdr(1, [1, 2], 2033) + mac(2) + mac(1) + b'\x08\x00' +
+  bytes.fromhex('4500001c0000400040010000') + bytes([10, 77, 0, 1, 10, 77, 0, 2]) + bytes(8))
+w('ethernet_frame', 'ipv6_multicast', eth_hdr(2, [1, 2], 1500) + b'\x33\x33\x00\x00\x00\x01' +
+  mac(2) + b'\x86\xdd' + bytes(40))
+w('ethernet_frame', 'unknown_mac', eth_hdr(1, [1, 2], 1500) + mac(9) + mac(1) + b'\x08\x00' +
+  bytes(20))
+w('ethernet_frame', 'not_ip', eth_hdr(1, [1, 2], 1500) + mac(2) + mac(1) + b'\x88\xb5' + bytes(46))
+
 # location_parser: the forms of README.md "Location ports", and some rejects
 w('location_parser', 'plain', '43.0008 -78.7890 25.0\n43.0008,-78.7890,25.0\n')
 w('location_parser', 'json_geodetic', '{"lat": 43.0008, "lon": -78.7890, "alt": 25}\n')

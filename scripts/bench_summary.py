@@ -217,6 +217,20 @@ def mix_table(out):
             lines.append(f"| {r['name']} | {r['n_inputs']} | {r['block']} | "
                          f"{fmt(bc.num(r['cmac_per_s']) / 1e9, 3)} | "
                          f"{fmt(100 * bc.num(r['fraction_of_peak']), 1)}% |")
+    ramped = [r for r in rows if r["kind"] == "ramped"]
+    if ramped:
+        lines += ["", "The fading mixer (`channel::mix_ramped_add`: each coefficient ramps across "
+                  "the block) beside its memory bound (reading the same inputs once, 8 bytes per "
+                  "complex MAC) and its compute bound (four FMAs per vector and input: half the "
+                  "peak):", "",
+                  "| N inputs | block | G cMAC/s | memory bound G/s | of memory bound "
+                  "| of compute bound |", "|---|---|---|---|---|---|"]
+        compute = max(bc.num(p["cmac_per_s"]) for p in peaks) / 2
+        for r in ramped:
+            rate, bound = bc.num(r["cmac_per_s"]), bc.num(r["memory_bound_cmac_per_s"])
+            lines.append(f"| {r['n_inputs']} | {r['block']} | {fmt(rate / 1e9, 2)} | "
+                         f"{fmt(bound / 1e9, 2)} | {fmt(100 * rate / bound, 1)}% | "
+                         f"{fmt(100 * rate / compute, 1)}% |")
     noise = [r for r in rows if r["kind"] == "noise" and r.get("samples_per_s")]
     if noise:
         lines += ["", "Receiver noise (counter-based Gaussian, one thread): " + ", ".join(

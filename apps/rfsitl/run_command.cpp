@@ -22,6 +22,7 @@
 
 #include "commands.hpp"
 #include "live_sources.hpp"
+#include "rfsitl/agent_port/ip_ports.hpp"
 #include "rfsitl/agent_port/net_ports.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/external/external_runtime.hpp"
@@ -110,6 +111,7 @@ struct RunOptions {
   std::optional<std::string> dashboard_token_file;  ///< --dashboard-token-file
   bool no_skip = false;
   bool shared_noise = false;
+  bool ip = false;
   std::string summary_json;
   std::optional<std::string> mavlink;  ///< --mavlink ENDPOINT[+STEP]
 };
@@ -137,6 +139,7 @@ scenario::Scenario build_scenario(const RunOptions& o) {
   if (o.mavlink) follow_mavlink(s, *o.mavlink);
   if (o.no_skip) scenario::apply_setting(s, "engine.skip_idle_receivers", "false", "--no-skip");
   if (o.shared_noise) scenario::apply_setting(s, "channel.shared_noise", "true", "--shared-noise");
+  if (o.ip) scenario::apply_setting(s, "ip.enabled", "true", "--ip");
   if (o.scenario_path.empty()) s.nodes = scenario::default_formation(s.nodes.size(), s.channel);
   if (o.arch) {
     // Every built-in transceiver moves: threads = in the emulator, split = one
@@ -244,6 +247,21 @@ void print_external_summary(const external::ExternalRuntime& ext) {
 /// Lock-step needs everyone at the start: waits (Ctrl-C aware) until every
 /// external node has joined or external.start_timeout_s passed. Nodes that did
 /// not join start silent and may join later. False when interrupted.
+void print_ip_banner(const agent_port::IpPorts& ipnet) {
+  const auto& nodes = ipnet.nodes();
+  for (const auto& n : nodes) {
+    std::printf("  node %3u: netns %s%s  %s %s  %s  %s  MTU %zu\n", n.id, n.netns.c_str(),
+                n.netns_owned ? "" : " (attached)", n.interface.c_str(), n.mac.c_str(),
+                n.ipv4.c_str(), n.ipv6.c_str(), n.mtu);
+  }
+  if (nodes.size() >= 2) {
+    const std::string to = nodes[1].ipv4.substr(0, nodes[1].ipv4.find('/'));
+    std::printf("rfsitl: IP on every node; e.g. ip netns exec %s ping %s\n", nodes[0].netns.c_str(),
+                to.c_str());
+  }
+  std::fflush(stdout);
+}
+
 bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenario::Scenario& s,
                              const sigset_t& signals) {
   std::printf("rfsitl: external socket %s; waiting up to %.0f s for the external nodes to join\n",
@@ -346,6 +364,18 @@ int run(const RunOptions& o) {
     if (s.phy_of(i).external_program()) sc.external_net_ports.push_back(s.nodes[i].id);
   }
   auto servers = agent_port::make_net_ports(sc);
+  // With IP, Ethernet frames go to the nodes' interfaces and the rest on to
+  // the net ports. Made now: without the privileges nothing else starts.
+  std::unique_ptr<agent_port::IpPorts> ipnet;
+  if (s.ip.enabled) {
+    try {
+      ipnet = agent_port::make_ip_ports(s, *servers);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+      return 2;
+    }
+  }
+  engine::FrameSink& sink = ipnet ? static_cast<engine::FrameSink&>(*ipnet) : *servers;
   std::unique_ptr<external::ExternalRuntime> external;
   std::unique_ptr<engine::Engine> engine;
   // Observers of the engine: destroyed before it.
@@ -359,7 +389,7 @@ int run(const RunOptions& o) {
   try {
     external = external::ExternalRuntime::create(s);
     engine = engine::make_engine(
-        s, *servers, external ? external->transceiver_factory() : engine::TransceiverFactory{});
+        s, sink, external ? external->transceiver_factory() : engine::TransceiverFactory{});
     if (!o.pcap_path.empty()) {
       pcap = monitor::make_pcap_trace(monitor::PcapTraceSettings{
           o.pcap_path, static_cast<std::uint64_t>(o.pcap_max_mb * 1024 * 1024), o.pcap_files,
@@ -397,6 +427,7 @@ int run(const RunOptions& o) {
     // dashboard's live view) from the net ports' thread, so all of them are
     // added before the ports open (add_observer is not thread-safe).
     servers->start(*engine);
+    if (ipnet) ipnet->start(*engine);
     if (external) external->start_children();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
@@ -410,6 +441,7 @@ int run(const RunOptions& o) {
     return 2;
   }
   print_banner(s, sc, *sources);
+  if (ipnet) print_ip_banner(*ipnet);
   if (dashboard) {
     const char* control = !o.dashboard_control ? "off; --dashboard-control allows it"
                           : !token_needed      ? "allowed"
@@ -468,6 +500,7 @@ int run(const RunOptions& o) {
   stop.store(true);
   engine_thread.join();
   sources->stop();
+  if (ipnet) ipnet->stop();
   servers->stop();
   if (sigmf) sigmf->finish();
   if (pcap) {
@@ -494,6 +527,7 @@ int run(const RunOptions& o) {
     if (external) j["external"] = external->summary();
     if (pcap) j["pcap"] = pcap->summary();
     if (sigmf) j["sigmf"] = sigmf->summary();
+    if (ipnet) j["ip"] = ipnet->summary();
     summary_out << monitor::json_text(j, 2) << "\n";
     summary_out.flush();
     if (!summary_out) {
@@ -554,6 +588,10 @@ std::function<int()> add_run_command(CLI::App& parent) {
                   "Follow MAVLink vehicles: tcp:HOST:PORT (connect) or udp:HOST:PORT (listen), "
                   "+STEP: node n uses PORT + STEP (n - 1); e.g. tcp:127.0.0.1:5762+10 follows "
                   "ArduPilot SITL instances 0, 1, 2 ...");
+  cmd->add_flag(
+      "--ip", opts->ip,
+      "IP on every node: a network namespace each (rfsitl-<net base>-<id>) with a TAP "
+      "interface whose frames cross the radio channel (root; the scenario's ip: section)");
   cmd->add_flag("--no-dashboard", opts->no_dashboard, "Do not serve the web dashboard");
   CLI::Option* control = cmd->add_flag("--dashboard-control", opts->dashboard_control,
                                        "Let dashboard viewers move nodes (off by default)");

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "event_reporter.hpp"
+#include "frame_kind.hpp"
 #include "mobility_driver.hpp"
 #include "node_state_inbox.hpp"
 #include "rfsitl/channel/channel.hpp"
@@ -43,7 +44,9 @@ struct Decoded {
 struct Node : phy::RxHandler {
   NodeId id = 0;
   std::unique_ptr<phy::Transceiver> radio;
-  std::unique_ptr<SpscRing<QueuedFrame>> queue;  // from the I/O thread
+  std::unique_ptr<SpscRing<QueuedFrame>> queue;  // from the agent ports (submit())
+  std::unique_ptr<std::mutex> producers;         // taken by submit(): one producer at a time
+  std::vector<std::uint8_t> typed_payload;       // the frame on the air with its kind byte
   std::deque<NetFrame> injected;                 // scenario traffic, engine thread only
   std::vector<cf32> tx;                          // this tick's TX samples
   std::vector<cf32> rx;                          // this tick's RX samples
@@ -111,6 +114,7 @@ class LockStepEngine final : public Engine {
       }
       if (node.radio->remote()) ++remote_count_;
       node.queue = std::make_unique<SpscRing<QueuedFrame>>(phy.tx_queue_frames);
+      node.producers = std::make_unique<std::mutex>();
       node.tx.assign(block_, cf32{});
       node.rx.assign(block_, cf32{});
       node.scratch.inputs.reserve(n);
@@ -161,10 +165,13 @@ class LockStepEngine final : public Engine {
   }
 
   std::size_t max_payload(std::size_t node) const override {
-    return nodes_[node].radio->max_payload();
+    return nodes_[node].radio->max_payload() - (typed_ ? kKindBytes : 0);
   }
 
   bool submit(std::size_t node, NetFrame&& frame) override {
+    // Producers (the net ports' I/O thread, an IP node's TAP reader) take
+    // turns; the engine thread pops without a lock.
+    std::lock_guard producers(*nodes_[node].producers);
     NodeCounters& c = counters_[node];
     NodeCounters::bump(c.handed_in);
     QueuedFrame item{std::move(frame), clock_.wall_now_samples()};
@@ -432,8 +439,10 @@ class LockStepEngine final : public Engine {
         // Sender index in the top byte; the count from 1, so that 0 never names a frame.
         const std::uint32_t serial =
             (static_cast<std::uint32_t>(i) << 24) | (node.frames_started++ % 0xFFFFFFU + 1U);
+        std::span<const std::uint8_t> on_air = next->payload;
+        if (typed_) on_air = with_kind(*next, node.typed_payload);
         node.started_len =
-            node.radio->start_frame(phy::FrameTag{next->src, next->dst, serial}, next->payload);
+            node.radio->start_frame(phy::FrameTag{next->src, next->dst, serial}, on_air);
         node.started.emplace(serial, std::move(*next));
       }
     }
@@ -599,7 +608,9 @@ class LockStepEngine final : public Engine {
         reporter_.rx_samples(m, now_, node.rx);
       }
       for (Decoded& d : node.decoded) {
-        if (!d.payload_valid) {
+        // A kind byte this build does not know passed the CRC only if a
+        // transceiver garbled it: counted with the failed decodes.
+        if (!d.payload_valid || (typed_ && !has_known_kind(d.payload))) {
           NodeCounters::bump(counters_[m].rx_crc_failures);
         } else {
           defer_outcomes_ = true;
@@ -607,8 +618,10 @@ class LockStepEngine final : public Engine {
           defer_outcomes_ = false;
           if (for_this_node) {
             NodeCounters::bump(counters_[m].received);
-            reporter_.received(m, d.tag, d.payload, now_);
-            sink_.deliver(m, NetFrame{d.tag.src, d.tag.dst, std::move(d.payload)});
+            NetFrame frame{d.tag.src, d.tag.dst, std::move(d.payload)};
+            if (typed_) strip_kind(frame);
+            reporter_.received(m, d.tag, frame.payload, now_);
+            sink_.deliver(m, std::move(frame));
           }
           for (const LedgerOutcome& o : deferred_outcomes_) reporter_.outcome(o, now_);
           deferred_outcomes_.clear();
@@ -634,6 +647,7 @@ class LockStepEngine final : public Engine {
   }
 
   scenario::Scenario scenario_;
+  bool typed_ = scenario_.typed_framing();  // frames carry their kind on the air
   FrameSink& sink_;
   std::size_t block_;
   channel::Channel air_;

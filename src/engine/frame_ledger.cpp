@@ -28,6 +28,7 @@ NodeCountersSnapshot NodeCounters::snapshot() const {
   s.received = rd(received);
   s.rx_crc_failures = rd(rx_crc_failures);
   s.framing_errors = rd(framing_errors);
+  s.ip_refused = rd(ip_refused);
   s.to_agent_dropped = rd(to_agent_dropped);
   s.external_stalls = rd(external_stalls);
   return s;

@@ -143,6 +143,15 @@ void read_engine(Context& c, const Entry& at, EngineConfig& e) {
   sec.finish();
 }
 
+void read_ip(Context& c, const Entry& at, IpConfig& ip) {
+  Section sec(c, at);
+  sec.get("enabled", ip.enabled);
+  sec.get("subnet", ip.subnet);
+  sec.get("ipv6_prefix", ip.ipv6_prefix);
+  sec.get("interface", ip.interface);
+  sec.finish();
+}
+
 void read_external(Context& c, const Entry& at, ExternalConfig& e) {
   Section sec(c, at);
   sec.get("socket", e.socket_path);
@@ -176,6 +185,7 @@ NodeConfig read_node(Context& c, const Entry& at, const PhyChoice& scenario_phy)
     n.phy = scenario_phy;
     read_phy(c, phy, *n.phy);
   }
+  if (const Entry netns = sec.take("netns")) n.netns = text(c, netns);
   sec.finish();
   return n;
 }
@@ -205,6 +215,7 @@ void read_settings(Context& c, Section& sec, Scenario& s) {
   read_channel_and_radio(c, sec.take("channel"), sec.take("radio"), s);
   read_engine(c, sec.take("engine"), s.engine);
   read_external(c, sec.take("external"), s.external);
+  read_ip(c, sec.take("ip"), s.ip);
 }
 
 Scenario read_scenario(Context& c, const YAML::Node& root) {

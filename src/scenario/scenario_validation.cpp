@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "rfsitl/common/ip_prefix.hpp"
 #include "rfsitl/common/unix_socket_path.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
@@ -172,6 +173,55 @@ void check_channel(const Context& c, const Scenario& s) {
 
 }  // namespace
 
+namespace {
+
+// Linux interface names: 1..15 characters, no '/', ':' or whitespace (IFNAMSIZ).
+bool valid_interface_name(const std::string& name) {
+  if (name.empty() || name.size() > 15 || name == "." || name == "..") return false;
+  return std::all_of(name.begin(), name.end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.';
+  });
+}
+
+void check_ip(const Scenario& s, const Context& c) {
+  const IpConfig& ip = s.ip;
+  if (const auto v4 = parse_ipv4_prefix(ip.subnet); !v4 || v4->length < 8 || v4->length > 24) {
+    c.fail("ip.subnet",
+           "expected an IPv4 network a.b.c.d/8 to /24 (the host part is the node id), "
+           "got '" +
+               ip.subnet + "'");
+  }
+  if (const auto v6 = parse_ipv6_prefix(ip.ipv6_prefix); !v6 || v6->length > 64) {
+    c.fail("ip.ipv6_prefix", "expected an IPv6 network of /64 or shorter, e.g. fd00:1::/64, got '" +
+                                 ip.ipv6_prefix + "'");
+  }
+  if (!valid_interface_name(ip.interface)) {
+    c.fail("ip.interface", "expected 1..15 of A-Z a-z 0-9 - _ . (a Linux interface name), got '" +
+                               ip.interface + "'");
+  }
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const std::string key = "nodes[" + std::to_string(i) + "]";
+    if (const auto& ns = s.nodes[i].netns) {
+      if (ns->empty() || ns->size() > 255 || ns->find('/') != std::string::npos || *ns == "." ||
+          *ns == "..") {
+        c.fail(key + ".netns",
+               "expected the name of a network namespace (as `ip netns list` "
+               "shows it), got '" +
+                   *ns + "'");
+      }
+    }
+    // An external transceiver serves its node's net port itself and has no
+    // frame kinds: IP cannot reach it through the radio.
+    if (ip.enabled && s.phy_of(i).external_program()) {
+      c.fail(key + ".phy",
+             "an external transceiver owns its node's net port and cannot carry "
+             "IP; turn ip off or give this node a built-in phy");
+    }
+  }
+}
+
+}  // namespace
+
 void validate(const Scenario& s, const Context& c) {
   if (s.nodes.empty() || s.nodes.size() > kMaxNodeId) {
     c.fail("nodes", "must list 1.." + std::to_string(kMaxNodeId) + " nodes, got " +
@@ -259,6 +309,7 @@ void validate(const Scenario& s, const Context& c) {
   }
   check_ports(s.ports, c, listed, max_id);
   check_traffic(s, c, listed);
+  check_ip(s, c);
 }
 
 }  // namespace rfsitl::scenario::detail

@@ -80,6 +80,7 @@ TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
       {"received", "rfsitl_frames_received_total"},
       {"rx_crc_failures", "rfsitl_rx_crc_failures_total"},
       {"framing_errors", "rfsitl_framing_errors_total"},
+      {"ip_refused", "rfsitl_ip_frames_refused_total"},
       {"to_agent_dropped", "rfsitl_frames_to_agent_dropped_total"},
       {"queue_depth", "rfsitl_tx_queue_depth"},
       {"external_stalls", "rfsitl_external_stalls_total"},

@@ -53,12 +53,15 @@ class Engine : public position::PositionSink {
   virtual const std::vector<NodeId>& node_ids() const = 0;
   virtual std::optional<std::size_t> index_of(NodeId id) const = 0;
 
-  /// Hands a frame from node `node`'s agent to its TX queue; false (and counted
-  /// as queue_dropped) when the queue is full. Oversized payloads must have been
-  /// refused by the caller. Thread-safe for ONE producer thread (the I/O thread).
+  /// Hands a frame from node `node`'s agent (net port or TAP interface) to its
+  /// TX queue; false (and counted as queue_dropped) when the queue is full.
+  /// Oversized payloads must have been refused by the caller. Thread-safe: the
+  /// producers of one node (the net ports' I/O thread, the TAP reader) take
+  /// turns on a lock of that node; the engine thread never waits for it.
   virtual bool submit(std::size_t node, NetFrame&& frame) = 0;
 
-  /// Largest payload a frame from node `node` may carry.
+  /// Largest payload a frame from node `node` may carry (with IP on, one byte
+  /// less than its transceiver's: the frame's kind travels on the air).
   virtual std::size_t max_payload(std::size_t node) const = 0;
 
   /// Moves node `node` (nullopt: position unknown, no links). Thread-safe; takes

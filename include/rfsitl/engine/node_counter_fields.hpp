@@ -99,6 +99,10 @@ inline constexpr std::array kNodeCounterFields{
     NodeCounterField{"framing_errors", "rfsitl_framing_errors_total", CounterKind::kCounter,
                      "Net-port frames refused (oversized or too short).", "framing errors",
                      "frame-err", read_member<&NodeCountersSnapshot::framing_errors>},
+    NodeCounterField{"ip_refused", "rfsitl_ip_frames_refused_total", CounterKind::kCounter,
+                     "Frames from the node's TAP interface refused: not IPv4, IPv6 or ARP, a "
+                     "destination MAC that names no node, or longer than the MTU.",
+                     "IP refused", "ip-ref", read_member<&NodeCountersSnapshot::ip_refused>},
     NodeCounterField{"queue_depth", "rfsitl_tx_queue_depth", CounterKind::kGauge,
                      "Frames waiting in the TX queue.", "queue depth", "q-depth",
                      read_member<&NodeCountersSnapshot::queue_depth>},

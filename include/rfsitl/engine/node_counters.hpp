@@ -33,6 +33,7 @@ struct NodeCountersSnapshot {
   std::uint64_t received = 0;  ///< frames this node's receiver decoded and handed to its agent
   std::uint64_t rx_crc_failures = 0;   ///< decodes at this receiver that failed the CRC
   std::uint64_t framing_errors = 0;    ///< net-port bytes rejected (oversized, too short)
+  std::uint64_t ip_refused = 0;        ///< TAP frames refused (not IP/ARP, unknown MAC, > MTU)
   std::uint64_t to_agent_dropped = 0;  ///< decoded for this node but no agent connected / backlog
   std::uint64_t external_stalls = 0;   ///< round trips with the node's process that timed out
   std::uint64_t queue_depth = 0;       ///< TX queue length (the engine's; snapshot() leaves 0)
@@ -56,6 +57,7 @@ struct NodeCounters {
   std::atomic<std::uint64_t> received{0};
   std::atomic<std::uint64_t> rx_crc_failures{0};
   std::atomic<std::uint64_t> framing_errors{0};
+  std::atomic<std::uint64_t> ip_refused{0};
   std::atomic<std::uint64_t> to_agent_dropped{0};
   std::atomic<std::uint64_t> external_stalls{0};
 

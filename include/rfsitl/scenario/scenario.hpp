@@ -103,6 +103,9 @@ struct NodeConfig {
   std::optional<MobilityChoice> mobility;
   /// This node's live source, when it differs from the scenario's `position`.
   std::optional<PositionSourceChoice> source;
+  /// With IP: an existing network namespace (a container's) the node's TAP
+  /// interface goes into, instead of one rfsitl makes and removes.
+  std::optional<std::string> netns;
 
   /// Node `id` at `start` with everything else from the scenario (tests and
   /// benchmarks build nodes this way, so a new member does not break them).
@@ -171,6 +174,17 @@ struct ExternalConfig {
   bool restart_children = true;   ///< restart an `rfsitl node` child that dies
 };
 
+/// IP on every node (`ip:`, `rfsitl run --ip`): a network namespace per node
+/// holding a TAP interface whose Ethernet frames cross the radio channel.
+struct IpConfig {
+  bool enabled = false;
+  /// IPv4 network of the nodes' interfaces; a node's host part is its id.
+  std::string subnet = "10.77.0.0/24";
+  /// IPv6 network (a /64 or shorter); a node's interface identifier is its id.
+  std::string ipv6_prefix = "fd72:6673:6974:1::/64";
+  std::string interface = "rf0";  ///< the TAP interface's name in each namespace
+};
+
 /// A frame injected by the emulator itself at a virtual time (batch runs, tests).
 struct TrafficItem {
   double at_s = 0.0;
@@ -197,6 +211,7 @@ struct Scenario {
   PortConfig ports;
   EngineConfig engine;
   ExternalConfig external;
+  IpConfig ip;
   std::vector<TrafficItem> traffic;
   /// The live source of every node without its own `source` or `mobility`.
   PositionSourceChoice position_source;
@@ -213,6 +228,8 @@ struct Scenario {
   }
   /// True when node `node`'s transceiver is another process.
   bool runs_externally(std::size_t node) const { return phy_of(node).runs_externally(); }
+  /// True when radio frames carry their kind (FrameKind) on the air: with IP.
+  bool typed_framing() const { return ip.enabled; }
 };
 
 }  // namespace rfsitl::scenario

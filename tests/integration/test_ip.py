@@ -1,0 +1,211 @@
+"""IP on every node (`rfsitl run --ip`): stock ping between network
+namespaces across the radio channel, bad frames refused and counted, no
+namespace left behind, a killed run's namespaces removed by the next start.
+
+Needs root (network namespaces, TAP devices); skips with the reason otherwise.
+Every namespace a test makes is named after its emulator's random port base and
+removed in tearDown whatever happened."""
+
+import os
+import re
+import shutil
+import signal
+import subprocess
+import time
+import unittest
+
+from harness import ARRIVAL_S, BIN, Emulator
+
+TWO = {1: (0, 0, 10), 2: (5, 0, 10)}
+
+
+def netns_names(prefix):
+    out = subprocess.run(["ip", "netns", "list"], capture_output=True, text=True, timeout=10)
+    return sorted(line.split()[0] for line in out.stdout.splitlines()
+                  if line.split() and line.split()[0].startswith(prefix + "-"))
+
+
+def remove_netns(prefix):
+    """What a test's runs may have left: namespaces and the run's claim file
+    (a run killed with SIGKILL leaves both; its emulators are gone by now)."""
+    for name in netns_names(prefix):
+        subprocess.run(["ip", "netns", "delete", name], capture_output=True, timeout=10)
+    try:
+        os.remove(f"/run/rfsitl/{prefix}.pid")
+    except FileNotFoundError:
+        pass
+
+
+def in_netns(name, *cmd, timeout=60):
+    return subprocess.run(["ip", "netns", "exec", name, *cmd], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def wait_reachable(netns, address, timeout=ARRIVAL_S):
+    """Pings once a second until one reply comes back (bounded by timeout)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if in_netns(netns, "ping", "-c", "1", "-W", "1", address).returncode == 0:
+            return
+    raise AssertionError(f"{address} never answered from {netns} within {timeout} s")
+
+
+def ping_replies(output):
+    m = re.search(r"(\d+) received", output)
+    assert m, output
+    return int(m.group(1))
+
+
+# Sends raw Ethernet frames out of rf0 from inside a namespace (AF_PACKET).
+SEND_RAW = """
+import socket, sys
+s = socket.socket(socket.AF_PACKET, socket.SOCK_RAW)
+s.bind(("rf0", 0))
+src = bytes([2, 0, 0, 0, 0, 1])
+for dst, ethertype in ((bytes([2, 0, 0, 0, 0, 2]), 0x88B5),   # not IP
+                       (bytes([2, 0, 0, 0, 0, 9]), 0x0800)):  # a MAC that names no node
+    s.send(dst + src + ethertype.to_bytes(2, "big") + bytes(46))
+"""
+
+
+def ip_tools_missing():
+    if os.geteuid() != 0:
+        return "needs root: network namespaces and TAP devices"
+    if not os.path.exists("/dev/net/tun"):
+        return "needs /dev/net/tun"
+    for tool in ("ip", "ping"):
+        if shutil.which(tool) is None:
+            return f"needs `{tool}` (iproute2, iputils-ping)"
+    return None
+
+
+@unittest.skipIf(ip_tools_missing(), ip_tools_missing() or "")
+class IpNetworking(unittest.TestCase):
+    def setUp(self):
+        self.prefixes = []
+
+    def tearDown(self):
+        for prefix in self.prefixes:
+            remove_netns(prefix)
+
+    def emulator(self, nodes=TWO, args=(), **kw):
+        emu = Emulator(nodes, args=["--ip", *args], **kw)
+        self.prefixes.append(f"rfsitl-{emu.net_base}")
+        return emu
+
+    def test_stock_ping_crosses_the_radio_and_nothing_is_left(self):
+        with self.emulator() as emu:
+            prefix = f"rfsitl-{emu.net_base}"
+            self.assertEqual(netns_names(prefix), [f"{prefix}-1", f"{prefix}-2"])
+            banner = "".join(emu.output)
+            self.assertIn(f"netns {prefix}-1", banner)
+            self.assertIn("10.77.0.2/24", banner)
+            # At link-up both kernels announce themselves at once (IPv6 router
+            # solicitations, multicast listener reports): with no MAC yet those
+            # frames can collide with the first ARP request, whose retry comes
+            # a second later. Wait until node 2 answers, then measure.
+            wait_reachable(f"{prefix}-1", "10.77.0.2")
+            ping = in_netns(f"{prefix}-1", "ping", "-c", "20", "-i", "0.2", "-W", "3",
+                            "10.77.0.2")
+            replies = ping_replies(ping.stdout)
+            self.assertGreaterEqual(replies, 15, ping.stdout)
+            wait_reachable(f"{prefix}-2", "fd72:6673:6974:1::1")
+            ping6 = in_netns(f"{prefix}-2", "ping", "-6", "-c", "5", "-i", "0.2", "-W", "3",
+                             "fd72:6673:6974:1::1")
+            self.assertGreaterEqual(ping_replies(ping6.stdout), 3, ping6.stdout)
+            summary = emu.stop()
+        # The frames crossed the emulator: every request and reply was handed in
+        # from a TAP, put on the air and decoded by the other node's radio.
+        n1, n2 = summary["nodes"][0], summary["nodes"][1]
+        self.assertGreaterEqual(n1["handed_in"], 20)
+        self.assertGreaterEqual(n1["transmitted"], 20)
+        self.assertGreaterEqual(n2["received"], replies)
+        self.assertGreaterEqual(n1["received"], replies)
+        self.assertGreaterEqual(summary["ip"]["frames_from_tap"], 2 * replies)
+        self.assertGreaterEqual(summary["ip"]["frames_to_tap"], 2 * replies)
+        self.assertEqual([n["mtu"] for n in summary["ip"]["nodes"]], [2033, 2033])
+        self.assertEqual(netns_names(prefix), [], "namespaces left after the run")
+
+    def test_frames_that_are_not_ip_or_name_no_node_are_refused_and_counted(self):
+        with self.emulator() as emu:
+            prefix = f"rfsitl-{emu.net_base}"
+            sent = in_netns(f"{prefix}-1", "/usr/bin/python3", "-c", SEND_RAW)
+            self.assertEqual(sent.returncode, 0, sent.stderr)
+            emu.wait_until(lambda st: st["nodes"][0]["ip_refused"] >= 2, what="2 refused frames")
+            summary = emu.stop()
+        self.assertEqual(summary["nodes"][0]["ip_refused"], 2)
+        log = "".join(emu.output)
+        self.assertIn("refused: not_ip", log)
+        self.assertIn("refused: unknown_mac", log)
+
+    def test_a_killed_runs_namespaces_are_removed_by_the_next_start(self):
+        emu = self.emulator()
+        emu.__enter__()
+        prefix = f"rfsitl-{emu.net_base}"
+        try:
+            self.assertEqual(len(netns_names(prefix)), 2)
+            emu.proc.send_signal(signal.SIGKILL)
+            emu.proc.wait(30)
+            self.assertEqual(len(netns_names(prefix)), 2, "SIGKILL leaves them behind")
+        finally:
+            emu._reader.join(10)
+            emu.proc.stdout.close()
+            emu.dir.cleanup()
+        again = Emulator(TWO, args=["--ip"])
+        # The killed run's port bases: its prefix is the one to sweep.
+        for flag, value in (("--net-base", emu.net_base), ("--loc-base", emu.loc_base)):
+            again.args[again.args.index(flag) + 1] = str(value)
+        again.net_base, again.loc_base = emu.net_base, emu.loc_base
+        with again:
+            log = "".join(again.output)
+            self.assertIn(f"removed network namespace {prefix}-1", log)
+            self.assertIn(f"removed network namespace {prefix}-2", log)
+            self.assertEqual(len(netns_names(prefix)), 2)  # this run's own
+        self.assertEqual(netns_names(prefix), [])
+
+    def test_a_second_run_on_the_same_base_is_refused_and_leaves_the_first_alone(self):
+        with self.emulator() as emu:
+            prefix = f"rfsitl-{emu.net_base}"
+            second = subprocess.run(
+                [BIN, "run", "--nodes", "2", "--ip", "--net-base", str(emu.net_base),
+                 "--loc-base", str(emu.loc_base + 1), "--no-dashboard", "--duration", "1",
+                 "--mode", "virtual"],
+                capture_output=True, text=True, timeout=60)
+            self.assertEqual(second.returncode, 2, second.stdout + second.stderr)
+            self.assertIn(str(emu.proc.pid), second.stderr)
+            self.assertEqual(len(netns_names(prefix)), 2)
+            wait_reachable(f"{prefix}-1", "10.77.0.2")
+            ping = in_netns(f"{prefix}-1", "ping", "-c", "3", "-i", "0.2", "-W", "3", "10.77.0.2")
+            self.assertGreaterEqual(ping_replies(ping.stdout), 2, ping.stdout)
+
+    def test_a_namespace_to_attach_that_does_not_exist_stops_the_start(self):
+        emu = Emulator(TWO, args=["--ip"])
+        self.prefixes.append(f"rfsitl-{emu.net_base}")
+        # The scenario names node 2's namespace; none of that name exists.
+        with open(emu.scenario) as f:
+            text = f.read().replace("  - id: 2\n",
+                                    "  - id: 2\n    netns: rfsitl-no-such-namespace\n")
+        with open(emu.scenario, "w") as f:
+            f.write(text)
+        run = subprocess.run(emu.args, capture_output=True, text=True, timeout=60)
+        emu.dir.cleanup()
+        self.assertEqual(run.returncode, 2, run.stdout + run.stderr)
+        self.assertIn("rfsitl-no-such-namespace", run.stderr)
+        self.assertEqual(netns_names(f"rfsitl-{emu.net_base}"), [], "node 1's was not removed")
+
+
+class IpPrivileges(unittest.TestCase):
+    @unittest.skipIf(os.geteuid() != 0 or shutil.which("setpriv") is None,
+                     "needs root to drop to an unprivileged user, and setpriv")
+    def test_without_privileges_ip_is_refused_with_what_is_missing(self):
+        run = subprocess.run(
+            ["setpriv", "--reuid=65534", "--regid=65534", "--clear-groups", BIN, "run",
+             "--nodes", "2", "--ip", "--no-dashboard", "--duration", "1", "--mode", "virtual"],
+            capture_output=True, text=True, timeout=60)
+        self.assertEqual(run.returncode, 2, run.stdout + run.stderr)
+        self.assertIn("CAP_NET_ADMIN", run.stderr)
+        self.assertIn("root", run.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
