@@ -16,7 +16,7 @@ PACKAGES=(
   # the dashboard's browser test: Debian's Chromium driven by playwright-core (npm)
   chromium nodejs
   # IP on every node (--ip): namespaces (iproute2) and the stock tools the tests run in them
-  iproute2 iputils-ping
+  iproute2 iputils-ping babeld
 )
 # Debian packages npm separately from nodejs; other nodejs builds bring their own.
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)

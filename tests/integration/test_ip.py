@@ -194,6 +194,88 @@ class IpNetworking(unittest.TestCase):
         self.assertEqual(netns_names(f"rfsitl-{emu.net_base}"), [], "node 1's was not removed")
 
 
+# Node 1 and node 3 are 120 m apart: below the default GMSK's sensitivity
+# (SNR 120 - 60 log10(121) = -5 dB); each is 60 m from node 2 (12.9 dB).
+LINE = {1: (0, 0, 10), 2: (60, 0, 10), 3: (120, 0, 10)}
+BABEL_CONFIG = [
+    # babeld treats a TAP as wired; as wired, split horizon would keep node 2
+    # from announcing node 3's route back out of the interface it came in on.
+    "interface rf0 type wireless hello-interval 0.5 update-interval 2",
+    # Every node's own /32 (the /24 is on-link for everyone and would hide them).
+    "redistribute local ip 10.77.0.0/24 ge 32",
+    "redistribute local deny",
+]
+
+
+def live_node(emu, node_id):
+    """A node's counters now, from the running emulator's /api/stats."""
+    return next(n for n in emu.stats()["nodes"] if n["id"] == node_id)
+
+
+def route_to(netns, address):
+    out = in_netns(netns, "ip", "route", "get", address, timeout=10)
+    return out.stdout + out.stderr
+
+
+@unittest.skipIf(ip_tools_missing() or shutil.which("babeld") is None,
+                 ip_tools_missing() or "needs babeld (Debian package babeld; "
+                 "scripts/setup.sh installs it)")
+class IpMesh(unittest.TestCase):
+    def test_three_nodes_in_a_line_route_through_the_middle_and_reconverge(self):
+        emu = Emulator(LINE, args=["--ip"])
+        prefix = f"rfsitl-{emu.net_base}"
+        babels, logs = [], []
+        try:
+            with emu:
+                ns = {i: f"{prefix}-{i}" for i in LINE}
+                forwarding = in_netns(ns[2], "sysctl", "-qw", "net.ipv4.ip_forward=1")
+                self.assertEqual(forwarding.returncode, 0, forwarding.stderr)
+                for i in LINE:
+                    cmd = ["ip", "netns", "exec", ns[i], "babeld", "-d", "0",
+                           "-I", os.path.join(emu.dir.name, f"babeld{i}.pid"),
+                           "-S", os.path.join(emu.dir.name, f"babeld{i}.state")]
+                    for line in BABEL_CONFIG:
+                        cmd += ["-C", line]
+                    logs.append(open(os.path.join(emu.dir.name, f"babeld{i}.log"), "w"))
+                    babels.append(subprocess.Popen(cmd + ["rf0"], stdout=subprocess.DEVNULL,
+                                                   stderr=logs[-1]))
+                # Node 3 is reachable from node 1 only through node 2.
+                wait_reachable(ns[1], "10.77.0.3")
+                self.assertIn("via 10.77.0.2", route_to(ns[1], "10.77.0.3"))
+                relayed_before = live_node(emu, 2)["handed_in"]
+                ping = in_netns(ns[1], "ping", "-c", "10", "-i", "0.3", "-W", "3", "10.77.0.3")
+                self.assertGreaterEqual(ping_replies(ping.stdout), 7, ping.stdout)
+                # Node 2 put every relayed request and reply on the air itself.
+                self.assertGreaterEqual(live_node(emu, 2)["handed_in"] - relayed_before, 14)
+
+                # Node 2 flies 2 km away: no route to node 3 is left.
+                feed = emu.feed(2)
+                feed.move_local(60, 2000, 10)
+                emu.wait_until(lambda st: "via 10.77.0.2" not in route_to(ns[1], "10.77.0.3"),
+                               what="the route through node 2 to break")
+                lost = in_netns(ns[1], "ping", "-c", "3", "-i", "0.3", "-W", "1", "10.77.0.3")
+                self.assertNotEqual(lost.returncode, 0, lost.stdout)  # "No route to host"
+                self.assertNotRegex(lost.stdout, r"[1-9]\d* received")
+
+                # Back in the middle: the route comes back.
+                feed.move_local(60, 0, 10)
+                wait_reachable(ns[1], "10.77.0.3")
+                self.assertIn("via 10.77.0.2", route_to(ns[1], "10.77.0.3"))
+        finally:
+            for b in babels:
+                b.terminate()
+            for b in babels:
+                try:
+                    b.wait(10)
+                except subprocess.TimeoutExpired:
+                    b.kill()
+                    b.wait(10)
+            for f in logs:
+                f.close()
+            remove_netns(prefix)
+        self.assertEqual(netns_names(prefix), [])
+
+
 class IpPrivileges(unittest.TestCase):
     @unittest.skipIf(os.geteuid() != 0 or shutil.which("setpriv") is None,
                      "needs root to drop to an unprivileged user, and setpriv")
