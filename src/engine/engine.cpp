@@ -620,7 +620,7 @@ class LockStepEngine final : public Engine {
             NodeCounters::bump(counters_[m].received);
             NetFrame frame{d.tag.src, d.tag.dst, std::move(d.payload)};
             if (typed_) strip_kind(frame);
-            reporter_.received(m, d.tag, frame.payload, now_);
+            reporter_.received(m, d.tag, frame, now_);
             sink_.deliver(m, std::move(frame));
           }
           for (const LedgerOutcome& o : deferred_outcomes_) reporter_.outcome(o, now_);

@@ -74,6 +74,7 @@ void EventReporter::handed_in(std::size_t node, const NetFrame& f, SampleTime t)
   if (!active()) return;
   FrameEvent e = make(FrameEventKind::kHandedIn, node, f.src, f.dst, t);
   e.payload = f.payload;
+  e.frame_kind = f.kind;
   emit(e);
 }
 
@@ -81,6 +82,7 @@ void EventReporter::queue_dropped(std::size_t node, const NetFrame& f, SampleTim
   if (!active()) return;
   FrameEvent e = make(FrameEventKind::kQueueDropped, node, f.src, f.dst, t);
   e.payload = f.payload;
+  e.frame_kind = f.kind;
   emit(e);
 }
 
@@ -92,19 +94,21 @@ void EventReporter::transmitted(std::size_t node, std::uint32_t serial, const Ne
   e.length_samples = static_cast<std::uint32_t>(length);
   e.snr_db = snr_db(node, receiver_of(node, f.dst));
   e.payload = f.payload;
+  e.frame_kind = f.kind;
   emit(e);
-  in_flight_[serial] = InFlight{f.src, f.payload};
+  in_flight_[serial] = InFlight{f.src, f.payload, f.kind};
 }
 
-void EventReporter::received(std::size_t rx, const phy::FrameTag& tag,
-                             const std::vector<std::uint8_t>& payload, SampleTime t) const {
+void EventReporter::received(std::size_t rx, const phy::FrameTag& tag, const NetFrame& frame,
+                             SampleTime t) const {
   if (!active()) return;
   const std::size_t tx = tag.serial >> 24;  // the engine's serial carries the sender's index
   FrameEvent e = make(FrameEventKind::kReceived, tx, tag.src, tag.dst, t);
   e.node = scenario_.nodes[rx].id;
   e.serial = tag.serial;
   e.snr_db = snr_db(tx, rx);
-  e.payload = payload;
+  e.payload = frame.payload;
+  e.frame_kind = frame.kind;
   emit(e);
 }
 
@@ -120,6 +124,7 @@ void EventReporter::outcome(const LedgerOutcome& o, SampleTime now) {
   e.snr_db = snr_db(o.tx, o.rx ? o.rx : receiver_of(o.tx, o.dst));
   if (it != in_flight_.end()) {
     e.payload = std::move(it->second.payload);
+    e.frame_kind = it->second.kind;
     in_flight_.erase(it);
   }
   emit(e);

@@ -28,7 +28,7 @@ class EventReporter {
   // Engine thread.
   void transmitted(std::size_t node, std::uint32_t serial, const NetFrame& f, SampleTime start,
                    std::size_t length);
-  void received(std::size_t rx, const phy::FrameTag& tag, const std::vector<std::uint8_t>& payload,
+  void received(std::size_t rx, const phy::FrameTag& tag, const NetFrame& frame,
                 SampleTime t) const;
   void outcome(const LedgerOutcome& o, SampleTime now);
   bool wants_samples(std::size_t node, SampleTime tick_start, std::size_t tick_samples) const;
@@ -50,6 +50,7 @@ class EventReporter {
   struct InFlight {
     NodeId src = 0;  // as the agent wrote it
     std::vector<std::uint8_t> payload;
+    FrameKind kind = FrameKind::kAgent;
   };
   std::unordered_map<std::uint32_t, InFlight> in_flight_;  // by serial
 };

@@ -42,6 +42,9 @@ constexpr std::uint32_t kRtDbmNoise = 1U << 6;
 /// The 802.11 header's third address (the IBSS's BSSID): a constant,
 /// locally administered unicast address, "\x02rfsil".
 constexpr std::uint8_t kBssid[6] = {0x02, 0x72, 0x66, 0x73, 0x69, 0x6C};
+/// An Ethernet header's length (destination, source, EtherType).
+constexpr std::size_t kEthernetHeaderBytes = 14;
+
 /// LLC/SNAP header carrying the IEEE local experimental EtherType 0x88B5.
 constexpr std::uint8_t kLlcSnap[8] = {0xAA, 0xAA, 0x03, 0x00, 0x00, 0x00, 0x88, 0xB5};
 
@@ -145,6 +148,7 @@ std::string comment_of(const engine::FrameEvent& e, double sample_rate_hz) {
   if (e.length_samples != 0) s += " air_samples=" + std::to_string(e.length_samples);
   if (!e.phy.empty()) s += " phy=" + e.phy;
   if (e.rate_mbps != 0) s += " rate_mbps=" + std::to_string(e.rate_mbps);
+  if (e.frame_kind == FrameKind::kEthernet) s += " kind=ethernet";
   return s;
 }
 
@@ -313,15 +317,31 @@ class PcapTraceImpl final : public PcapTrace {
     b.u8(0x08);  // frame control: version 0, type data, subtype 0
     b.u8(0x00);  // flags
     b.u16(0);    // duration
+    // An Ethernet frame from an IP node keeps its own addresses and EtherType,
+    // so Wireshark decodes the IP packet inside; anything else is an agent's
+    // payload under the experimental EtherType.
+    const bool ethernet =
+        e.frame_kind == FrameKind::kEthernet && e.payload.size() >= kEthernetHeaderBytes;
     std::uint8_t mac[6];
-    mac_of(e.dst, mac);
-    b.raw(mac, 6);
-    mac_of(e.src, mac);
-    b.raw(mac, 6);
+    if (ethernet) {
+      b.raw(e.payload.data(), 6);      // destination
+      b.raw(e.payload.data() + 6, 6);  // source
+    } else {
+      mac_of(e.dst, mac);
+      b.raw(mac, 6);
+      mac_of(e.src, mac);
+      b.raw(mac, 6);
+    }
     b.raw(kBssid, 6);
     b.u16(static_cast<std::uint16_t>((e.serial & 0xFFFU) << 4));  // sequence number, fragment 0
-    b.raw(kLlcSnap, sizeof kLlcSnap);
-    b.raw(e.payload.data(), e.payload.size());
+    if (ethernet) {
+      b.raw(kLlcSnap, 6);
+      b.raw(e.payload.data() + 12, 2);  // the frame's EtherType
+      b.raw(e.payload.data() + kEthernetHeaderBytes, e.payload.size() - kEthernetHeaderBytes);
+    } else {
+      b.raw(kLlcSnap, sizeof kLlcSnap);
+      b.raw(e.payload.data(), e.payload.size());
+    }
 
     const auto packet_len = static_cast<std::uint32_t>(b.size() - packet_at);
     b.put_u32_at(lengths_at, packet_len);

@@ -32,6 +32,7 @@ engine::NodeCountersSnapshot distinct_values() {
   c.rx_crc_failures = 11;
   c.framing_errors = 12;
   c.to_agent_dropped = 13;
+  c.ip_refused = 18;
   c.queue_depth = 16;
   c.external_stalls = 17;
   return c;
@@ -53,6 +54,7 @@ const std::map<std::string, Expected>& expected_scalars() {
       {"received", {"rfsitl_frames_received_total", 10}},
       {"rx_crc_failures", {"rfsitl_rx_crc_failures_total", 11}},
       {"framing_errors", {"rfsitl_framing_errors_total", 12}},
+      {"ip_refused", {"rfsitl_ip_frames_refused_total", 18}},
       {"to_agent_dropped", {"rfsitl_frames_to_agent_dropped_total", 13}},
       {"queue_depth", {"rfsitl_tx_queue_depth", 16}},
       {"external_stalls", {"rfsitl_external_stalls_total", 17}},
@@ -138,12 +140,12 @@ TEST(NodeCounterFields, SummaryTableHasAColumnPerFieldInOrder) {
   for (std::uint64_t v; row >> v;) values.push_back(v);
   // The columns the table has always had, then the ones added since.
   const std::vector<std::string> want_titles = {
-      "node",      "in",       "tx",     "delivered", "lost:sen", "lost:col", "lost:hd",
-      "lost:dec",  "lost:dst", "q-drop", "pending",   "received", "crc-fail", "to-agent-drop",
-      "frame-err", "q-depth",  "stalls"};
+      "node",      "in",       "tx",      "delivered", "lost:sen", "lost:col", "lost:hd",
+      "lost:dec",  "lost:dst", "q-drop",  "pending",   "received", "crc-fail", "to-agent-drop",
+      "frame-err", "ip-ref",   "q-depth", "stalls"};
   EXPECT_EQ(titles, want_titles);
-  const std::vector<std::uint64_t> want_values = {7, 1000, 3,  4,  5,  6,  7,  8, 9,
-                                                  2, 959,  10, 11, 13, 12, 16, 17};
+  const std::vector<std::uint64_t> want_values = {7, 1000, 3,  4,  5,  6,  7,  8,  9,
+                                                  2, 959,  10, 11, 13, 12, 18, 16, 17};
   EXPECT_EQ(values, want_values);
   // Right-aligned under its title.
   EXPECT_EQ(lines[0].size(), lines[1].size());

@@ -328,6 +328,35 @@ TEST(PcapTrace, EveryEventIsOneRadiotap80211PacketThatLibpcapReads) {
   }
 }
 
+TEST(PcapTrace, AnIpNodesEthernetFrameKeepsItsAddressesAndEtherType) {
+  // Node 1's IPv4 packet to node 2 (Ethernet dst, src, 0x0800, then IP):
+  // the 802.11 addresses are the frame's, the SNAP header carries its
+  // EtherType and the body is the IP packet, which Wireshark then decodes.
+  TempDir dir;
+  PcapTraceSettings s;
+  s.path = dir.path("ip.pcapng");
+  std::vector<std::uint8_t> frame = {0x02, 0, 0, 0, 0, 2, 0x02, 0, 0, 0, 0, 1, 0x08, 0x00};
+  const std::vector<std::uint8_t> ip = {0x45, 0x00, 0x00, 0x14, 1, 2, 3, 4, 64, 1,
+                                        0,    0,    10,   77,   0, 1, 10, 77, 0, 2};
+  frame.insert(frame.end(), ip.begin(), ip.end());
+  auto tx = event(FrameEventKind::kTransmitted, 100, 1, 2, 1, 0x00000005, frame);
+  tx.frame_kind = FrameKind::kEthernet;
+  auto trace = make_pcap_trace(s);
+  trace->on_frame_event(tx);
+  trace->flush();
+  const LibpcapFile f = read_libpcap(s.path);
+  ASSERT_EQ(f.packets.size(), 1U);
+  const Decoded d = decode(f.packets[0].data);
+  EXPECT_EQ(d.addr1, mac(2));
+  EXPECT_EQ(d.addr2, mac(1));
+  EXPECT_EQ(d.llc, (std::vector<std::uint8_t>{0xAA, 0xAA, 0x03, 0x00, 0x00, 0x00, 0x08, 0x00}));
+  EXPECT_EQ(d.payload, ip);
+  const RawFile raw = read_raw(s.path);
+  ASSERT_EQ(raw.packets.size(), 1U);
+  EXPECT_NE(raw.packets[0].comment.find(" kind=ethernet"), std::string::npos)
+      << raw.packets[0].comment;
+}
+
 TEST(PcapTrace, SignalAndNoiseAreClampedToInt8) {
   TempDir dir;
   PcapTraceSettings s;

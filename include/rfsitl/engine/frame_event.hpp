@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "rfsitl/common/net_frame.hpp"
 #include "rfsitl/common/types.hpp"
 #include "rfsitl/engine/node_counters.hpp"
 
@@ -39,6 +40,8 @@ struct FrameEvent {
   std::string phy;                    ///< the sender's PHY type ("gmsk", "ofdm", ...)
   unsigned rate_mbps = 0;             ///< the sender PHY's rate_mbps setting (ofdm); 0: none
   std::vector<std::uint8_t> payload;  ///< the net frame's payload (without src/dst)
+  /// What the payload is: an agent's bytes, or (IP on) an Ethernet frame.
+  FrameKind frame_kind = FrameKind::kAgent;
 };
 
 }  // namespace rfsitl::engine
