@@ -177,8 +177,8 @@ class IpPortsImpl final : public IpPorts {
     tap.mtu = static_cast<unsigned>(n.info.mtu);
     const Ipv4Prefix a4 = node_address(v4, cfg.id);
     const Ipv6Prefix a6 = node_address(v6, cfg.id);
-    tap.ipv4 = ip::Ipv4Address{a4.bytes, v4.length};
-    tap.ipv6 = ip::Ipv6Address{a6.bytes, v6.length};
+    tap.ipv4 = a4;  // the node's address, with the network's prefix length
+    tap.ipv6 = a6;
     n.tap.emplace(ip::TapDevice::open(*n.netns, tap));
     n.info.interface = n.tap->name();
     n.info.mac = mac_text(tap.mac);

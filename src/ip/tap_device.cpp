@@ -87,7 +87,7 @@ class Configurer {
     ioctl_or_throw(socket_fd, SIOCSIFFLAGS, &ifr, "bring " + interface + " up");
   }
 
-  void set_ipv4(int socket_fd, const Ipv4Address& a) const {
+  void set_ipv4(int socket_fd, const Ipv4Prefix& a) const {
     sockaddr_in address{};
     address.sin_family = AF_INET;
     std::memcpy(&address.sin_addr, a.bytes.data(), a.bytes.size());
@@ -96,15 +96,15 @@ class Configurer {
     ioctl_or_throw(socket_fd, SIOCSIFADDR, &ifr, "set the IPv4 address");
     // SIOCSIFADDR guesses a classful mask; the real one also fixes the
     // broadcast address and the prefix route.
-    const std::uint32_t mask = a.prefix == 0 ? 0 : ~std::uint32_t{0} << (32 - a.prefix);
+    const std::uint32_t mask = a.length == 0 ? 0 : ~std::uint32_t{0} << (32 - a.length);
     address.sin_addr.s_addr = htonl(mask);
     ifr = request_for(name_);
     std::memcpy(&ifr.ifr_netmask, &address, sizeof address);
     ioctl_or_throw(socket_fd, SIOCSIFNETMASK, &ifr,
-                   "set the IPv4 prefix length /" + std::to_string(a.prefix));
+                   "set the IPv4 prefix length /" + std::to_string(a.length));
   }
 
-  void add_ipv6(int inet_fd, const Ipv6Address& a) const {
+  void add_ipv6(int inet_fd, const Ipv6Prefix& a) const {
     ifreq ifr = request_for(name_);
     ioctl_or_throw(inet_fd, SIOCGIFINDEX, &ifr, "read the interface index");
     const UniqueFd inet6(::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0));
@@ -114,7 +114,7 @@ class Configurer {
     }
     In6Ifreq request{};
     std::memcpy(&request.addr, a.bytes.data(), a.bytes.size());
-    request.prefixlen = a.prefix;
+    request.prefixlen = a.length;
     request.ifindex = ifr.ifr_ifindex;
     ioctl_or_throw(inet6.get(), SIOCSIFADDR, &request, "add the IPv6 address");
   }
@@ -180,12 +180,12 @@ TapDevice TapDevice::open(const NetworkNamespace& ns, const TapConfig& c) {
                                 std::to_string(IFNAMSIZ - 1) +
                                 " characters, no '/', ':', '%' or spaces)");
   }
-  if (c.ipv4 && c.ipv4->prefix > 32) {
-    throw std::invalid_argument(who + ": IPv4 prefix length /" + std::to_string(c.ipv4->prefix) +
+  if (c.ipv4 && c.ipv4->length > 32) {
+    throw std::invalid_argument(who + ": IPv4 prefix length /" + std::to_string(c.ipv4->length) +
                                 " is over 32");
   }
-  if (c.ipv6 && c.ipv6->prefix > 128) {
-    throw std::invalid_argument(who + ": IPv6 prefix length /" + std::to_string(c.ipv6->prefix) +
+  if (c.ipv6 && c.ipv6->length > 128) {
+    throw std::invalid_argument(who + ": IPv6 prefix length /" + std::to_string(c.ipv6->length) +
                                 " is over 128");
   }
   // The descriptor comes back out of the namespace's thread and stays bound

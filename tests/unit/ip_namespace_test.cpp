@@ -142,8 +142,8 @@ TEST(IpNamespace, TapIsMadeInsideWithItsMacMtuAndAddressesAndGoesAwayWithIt) {
     c.name = "rf0";
     c.mac = {0x02, 0x52, 0x46, 0x00, 0x00, 0x01};
     c.mtu = 1400;
-    c.ipv4 = Ipv4Address{{10, 77, 1, 1}, 24};
-    c.ipv6 = Ipv6Address{{0xfd, 0x00, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x01}, 64};
+    c.ipv4 = Ipv4Prefix{{10, 77, 1, 1}, 24};
+    c.ipv6 = Ipv6Prefix{{0xfd, 0x00, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x01}, 64};
     const TapDevice tap = TapDevice::open(ns, c);
     EXPECT_EQ(tap.name(), "rf0");
     EXPECT_GE(tap.fd(), 0);
@@ -199,10 +199,10 @@ TEST(IpNamespace, ArpRequestWrittenToATapIsAnsweredByItsKernel) {
   const NetworkNamespace ns_b = NetworkNamespace::create(prefix + "b");
   TapConfig config_a;
   config_a.mac = mac_a;
-  config_a.ipv4 = Ipv4Address{ip_a, 24};
+  config_a.ipv4 = Ipv4Prefix{ip_a, 24};
   TapConfig config_b;
   config_b.mac = mac_b;
-  config_b.ipv4 = Ipv4Address{ip_b, 24};
+  config_b.ipv4 = Ipv4Prefix{ip_b, 24};
   TapDevice tap_a = TapDevice::open(ns_a, config_a);
   TapDevice tap_b = TapDevice::open(ns_b, config_b);
 

@@ -1,7 +1,8 @@
 #pragma once
-/// IPv4 and IPv6 networks as a scenario writes them ("10.77.0.0/24",
-/// "fd72:6673:6974:1::/64"), and the address of node `id` in one: the
-/// network's host part set to the id.
+/// IPv4 and IPv6 addresses with a prefix length: a network as a scenario
+/// writes it ("10.77.0.0/24", "fd72:6673:6974:1::/64"), or an interface's
+/// address in it ("10.77.0.2/24"); and the address of node `id` in a network:
+/// the host part set to the id.
 #include <arpa/inet.h>
 
 #include <array>

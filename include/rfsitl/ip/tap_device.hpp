@@ -10,21 +10,10 @@
 #include <span>
 #include <string>
 
+#include "rfsitl/common/ip_prefix.hpp"
 #include "rfsitl/ip/network_namespace.hpp"
 
 namespace rfsitl::ip {
-
-/// An IPv4 address with its prefix length (0..32), e.g. 10.0.0.1/24.
-struct Ipv4Address {
-  std::array<std::uint8_t, 4> bytes{};
-  unsigned prefix = 24;
-};
-
-/// An IPv6 address with its prefix length (0..128), e.g. fd00::1/64.
-struct Ipv6Address {
-  std::array<std::uint8_t, 16> bytes{};
-  unsigned prefix = 64;
-};
 
 struct TapConfig {
   /// The interface's name (1..15 characters, no '/', ':', '%' or whitespace).
@@ -32,9 +21,9 @@ struct TapConfig {
   /// All zero: keep the random one the kernel gives. Must be unicast.
   std::array<std::uint8_t, 6> mac{};
   unsigned mtu = 1500;
-  std::optional<Ipv4Address> ipv4;
+  std::optional<Ipv4Prefix> ipv4;  ///< the interface's address and prefix length
   /// Added without duplicate address detection, so that it is usable at once.
-  std::optional<Ipv6Address> ipv6;
+  std::optional<Ipv6Prefix> ipv6;
 };
 
 /// A TAP interface (IFF_TAP | IFF_NO_PI: Ethernet frames without a packet-info
