@@ -157,7 +157,10 @@ class IpPortsImpl final : public IpPorts {
     const auto& cfg = scenario_.nodes[i];
     IpNode& n = nodes_[i];
     n.info.id = cfg.id;
-    if (cfg.netns) {
+    if (cfg.netns && cfg.netns->starts_with("pid:")) {
+      // A container's namespace by one of its processes (validated: digits).
+      n.netns.emplace(ip::NetworkNamespace::attach_pid(std::stoi(cfg.netns->substr(4))));
+    } else if (cfg.netns) {
       n.netns.emplace(ip::NetworkNamespace::attach(*cfg.netns));
     } else {
       n.netns.emplace(ip::NetworkNamespace::create(prefix_ + "-" + std::to_string(cfg.id)));

@@ -202,11 +202,18 @@ void check_ip(const Scenario& s, const Context& c) {
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const std::string key = "nodes[" + std::to_string(i) + "]";
     if (const auto& ns = s.nodes[i].netns) {
-      if (ns->empty() || ns->size() > 255 || ns->find('/') != std::string::npos || *ns == "." ||
-          *ns == "..") {
+      const bool pid = ns->starts_with("pid:");
+      const std::string digits = pid ? ns->substr(4) : "";
+      const bool pid_ok = pid && !digits.empty() && digits.size() <= 9 &&
+                          std::all_of(digits.begin(), digits.end(),
+                                      [](char ch) { return ch >= '0' && ch <= '9'; }) &&
+                          std::stoul(digits) > 0;
+      const bool name_ok = !pid && !ns->empty() && ns->size() <= 255 &&
+                           ns->find('/') == std::string::npos && *ns != "." && *ns != "..";
+      if (!pid_ok && !name_ok) {
         c.fail(key + ".netns",
                "expected the name of a network namespace (as `ip netns list` "
-               "shows it), got '" +
+               "shows it) or pid:PID (a process's namespace), got '" +
                    *ns + "'");
       }
     }

@@ -220,6 +220,43 @@ def route_to(netns, address):
 @unittest.skipIf(ip_tools_missing() or shutil.which("babeld") is None,
                  ip_tools_missing() or "needs babeld (Debian package babeld; "
                  "scripts/setup.sh installs it)")
+class IpAttach(unittest.TestCase):
+    @unittest.skipIf(ip_tools_missing() or shutil.which("unshare") is None,
+                     ip_tools_missing() or "needs unshare (util-linux)")
+    def test_a_node_attaches_to_a_running_processs_namespace(self):
+        # A stand-in for a container: a process in a network namespace of its
+        # own, made here and ended here.
+        holder = subprocess.Popen(["unshare", "--net", "sleep", "120"])
+        emu = Emulator(TWO, args=["--ip"])
+        prefix = f"rfsitl-{emu.net_base}"
+        try:
+            with open(emu.scenario) as f:
+                text = f.read().replace("  - id: 2\n", f"  - id: 2\n    netns: pid:{holder.pid}\n")
+            with open(emu.scenario, "w") as f:
+                f.write(text)
+            # unshare execs sleep once the namespace exists: wait for that.
+            deadline = time.monotonic() + ARRIVAL_S
+            while (os.readlink(f"/proc/{holder.pid}/ns/net") == os.readlink("/proc/self/ns/net")
+                   and time.monotonic() < deadline):
+                time.sleep(0.01)
+            with emu:
+                self.assertIn(f"netns pid:{holder.pid} (attached)", "".join(emu.output))
+                self.assertEqual(netns_names(prefix), [f"{prefix}-1"])
+                wait_reachable(f"{prefix}-1", "10.77.0.2")
+                # Node 2's interface is inside the process's namespace.
+                inside = subprocess.run(["nsenter", "-t", str(holder.pid), "-n", "ip", "-br",
+                                         "addr", "show", "rf0"], capture_output=True, text=True,
+                                        timeout=10)
+                self.assertIn("10.77.0.2/24", inside.stdout, inside.stdout + inside.stderr)
+            # The attached namespace outlives the run (its process still holds it).
+            self.assertIsNone(holder.poll())
+            self.assertEqual(netns_names(prefix), [])
+        finally:
+            holder.kill()
+            holder.wait(10)
+            remove_netns(prefix)
+
+
 class IpMesh(unittest.TestCase):
     def test_three_nodes_in_a_line_route_through_the_middle_and_reconverge(self):
         emu = Emulator(LINE, args=["--ip"])

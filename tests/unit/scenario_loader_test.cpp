@@ -306,6 +306,35 @@ TEST(ParseScenario, ANodeCountPlacesTheDefaultFormation) {
             std::string::npos);
 }
 
+TEST(ParseScenario, IpSectionAndANodesNamespaceAreReadAndChecked) {
+  const Scenario s = parse_scenario(
+      "ip: {enabled: true, subnet: 10.9.8.0/24, ipv6_prefix: 'fd00:9::/64', interface: wl0}\n"
+      "nodes:\n  - {id: 1, netns: drone1}\n  - {id: 2, netns: 'pid:4242'}\n  - {id: 3}\n",
+      "t.yaml");
+  EXPECT_TRUE(s.ip.enabled);
+  EXPECT_EQ(s.ip.subnet, "10.9.8.0/24");
+  EXPECT_EQ(s.ip.ipv6_prefix, "fd00:9::/64");
+  EXPECT_EQ(s.ip.interface, "wl0");
+  EXPECT_EQ(s.nodes[0].netns, "drone1");
+  EXPECT_EQ(s.nodes[1].netns, "pid:4242");
+  EXPECT_FALSE(s.nodes[2].netns.has_value());
+  EXPECT_TRUE(s.typed_framing());
+  EXPECT_EQ(parse_error_of("ip: {subnet: 10.9.8.0/25}\nnodes: 2\n"),
+            "t.yaml:1: ip.subnet: expected an IPv4 network a.b.c.d/8 to /24 (the host part is the "
+            "node id), got '10.9.8.0/25'");
+  EXPECT_NE(parse_error_of("ip: {ipv6_prefix: 'fd00::/96'}\nnodes: 2\n").find("ip.ipv6_prefix"),
+            std::string::npos);
+  EXPECT_NE(parse_error_of("ip: {interface: way-too-long-name}\nnodes: 2\n").find("ip.interface"),
+            std::string::npos);
+  for (const char* bad : {"a/b", "pid:", "pid:x1", "pid:0", ".."}) {
+    const std::string e =
+        parse_error_of(std::string("nodes:\n  - {id: 1, netns: '") + bad + "'}\n");
+    EXPECT_NE(e.find("t.yaml:2: nodes[0].netns: expected the name of a network namespace"),
+              std::string::npos)
+        << bad << ": " << e;
+  }
+}
+
 TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {
   EXPECT_EQ(error_of("nodes: [{id: 1}]\ntime:\n  mode: virtual\n  tick_sample: 500\n"),
             "t.yaml:4: time.tick_sample: unknown key (allowed in time: mode, speed, "
