@@ -140,16 +140,26 @@ double median_rate(const Call& call, double units, double seconds) {
   return median(rates);
 }
 
+/// Signals of n inputs x b samples and their pointers, the same for every kernel.
+struct Inputs {
+  std::vector<std::vector<cf32>> signals;
+  std::vector<const cf32*> pointers;
+  Inputs(std::size_t n, std::size_t b) : signals(n, std::vector<cf32>(b)), pointers(n) {
+    std::mt19937 rng(static_cast<std::uint32_t>(n * 1000 + b));
+    std::normal_distribution<float> g(0.0F, 1.0F);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (auto& v : signals[i]) v = {g(rng), g(rng)};
+      pointers[i] = signals[i].data();
+    }
+  }
+};
+
 /// Median complex MAC/s of channel::mix with n inputs of b samples each.
 double measure_mix(std::size_t n, std::size_t b, double seconds, float* sink) {
-  std::mt19937 rng(static_cast<std::uint32_t>(n * 1000 + b));
-  std::normal_distribution<float> g(0.0F, 1.0F);
-  std::vector<std::vector<cf32>> signals(n, std::vector<cf32>(b));
-  std::vector<const cf32*> inputs(n);
+  const Inputs in(n, b);
+  const std::vector<const cf32*>& inputs = in.pointers;
   std::vector<cf32> coeffs(n);
   for (std::size_t i = 0; i < n; ++i) {
-    for (auto& s : signals[i]) s = {g(rng), g(rng)};
-    inputs[i] = signals[i].data();
     coeffs[i] = {0.5F + 0.01F * static_cast<float>(i), -0.25F};  // all nonzero: all active
   }
   std::vector<cf32> out(b);
@@ -170,14 +180,8 @@ double measure_mix(std::size_t n, std::size_t b, double seconds, float* sink) {
 /// receiver's own input with coefficient 0 as in the engine); counted MACs are
 /// the nonzero ones, n * (n - 1) * b per call.
 double measure_mix_rows(std::size_t n, std::size_t b, double seconds, float* sink) {
-  std::mt19937 rng(static_cast<std::uint32_t>(n * 1000 + b + 1));
-  std::normal_distribution<float> g(0.0F, 1.0F);
-  std::vector<std::vector<cf32>> signals(n, std::vector<cf32>(b));
-  std::vector<const cf32*> inputs(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (auto& s : signals[i]) s = {g(rng), g(rng)};
-    inputs[i] = signals[i].data();
-  }
+  const Inputs in(n, b);
+  const std::vector<const cf32*>& inputs = in.pointers;
   std::vector<cf32> coeffs(n * n);
   for (std::size_t r = 0; r < n; ++r)
     for (std::size_t i = 0; i < n; ++i)
@@ -195,20 +199,6 @@ double measure_mix_rows(std::size_t n, std::size_t b, double seconds, float* sin
   };
   return median_rate(call, static_cast<double>(n * (n - 1) * b), seconds);
 }
-
-/// Signals of n inputs x b samples and their pointers, the same for every kernel.
-struct Inputs {
-  std::vector<std::vector<cf32>> signals;
-  std::vector<const cf32*> pointers;
-  Inputs(std::size_t n, std::size_t b) : signals(n, std::vector<cf32>(b)), pointers(n) {
-    std::mt19937 rng(static_cast<std::uint32_t>(n * 1000 + b + 2));
-    std::normal_distribution<float> g(0.0F, 1.0F);
-    for (std::size_t i = 0; i < n; ++i) {
-      for (auto& v : signals[i]) v = {g(rng), g(rng)};
-      pointers[i] = signals[i].data();
-    }
-  }
-};
 
 /// The fading mixer (channel::mix_ramped_add): n inputs of b samples, each with
 /// a coefficient ramping across the block. Complex MAC/s.

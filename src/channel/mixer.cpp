@@ -86,7 +86,6 @@ void mix_rows(std::span<const cf32* const> inputs, std::span<const cf32> coeffs,
   for (std::size_t r0 = 0; r0 < outs.size(); r0 += kRows) {
     const std::size_t rows = std::min(kRows, outs.size() - r0);
     // Inputs whose coefficients are zero for every row of the group are left out.
-    // Inputs whose coefficients are zero for every row of the group are left out.
     std::size_t k = 0;
     for (std::size_t i = 0; i < n_in; ++i) {
       bool any = false;

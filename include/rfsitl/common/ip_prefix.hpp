@@ -41,30 +41,30 @@ inline std::optional<std::pair<std::string, unsigned>> split_prefix(std::string_
   return std::pair{std::string(text.substr(0, slash)), length};
 }
 
-}  // namespace detail
-
-/// "a.b.c.d/len" with len in 0..32; nullopt otherwise.
-inline std::optional<Ipv4Prefix> parse_ipv4_prefix(std::string_view text) {
-  const auto parts = detail::split_prefix(text);
-  Ipv4Prefix p;
-  if (!parts || parts->second > 32 ||
-      inet_pton(AF_INET, parts->first.c_str(), p.bytes.data()) != 1) {
+/// "ADDRESS/LENGTH" of one family (AF_INET into Ipv4Prefix, AF_INET6 into
+/// Ipv6Prefix), LENGTH at most the address's bits; nullopt otherwise.
+template <typename Prefix, int Family>
+std::optional<Prefix> parse_prefix(std::string_view text) {
+  const auto parts = split_prefix(text);
+  Prefix p;
+  if (!parts || parts->second > 8 * p.bytes.size() ||
+      inet_pton(Family, parts->first.c_str(), p.bytes.data()) != 1) {
     return std::nullopt;
   }
   p.length = parts->second;
   return p;
 }
 
+}  // namespace detail
+
+/// "a.b.c.d/len" with len in 0..32; nullopt otherwise.
+inline std::optional<Ipv4Prefix> parse_ipv4_prefix(std::string_view text) {
+  return detail::parse_prefix<Ipv4Prefix, AF_INET>(text);
+}
+
 /// "x:y::/len" with len in 0..128; nullopt otherwise.
 inline std::optional<Ipv6Prefix> parse_ipv6_prefix(std::string_view text) {
-  const auto parts = detail::split_prefix(text);
-  Ipv6Prefix p;
-  if (!parts || parts->second > 128 ||
-      inet_pton(AF_INET6, parts->first.c_str(), p.bytes.data()) != 1) {
-    return std::nullopt;
-  }
-  p.length = parts->second;
-  return p;
+  return detail::parse_prefix<Ipv6Prefix, AF_INET6>(text);
 }
 
 /// Node `id`'s address: the prefix's network with the last byte set to the id
