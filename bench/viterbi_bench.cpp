@@ -1,12 +1,15 @@
-// Decoding throughput of make_viterbi_decoder() (libfec viterbi27) for one
-// 1500-byte PSDU: SERVICE (16) + 12000 PSDU bits + 6 tail bits. Reported as
-// decoded data bits per second ("bits/s" = items_per_second).
+// Decoding throughput of the Viterbi decoders for one 1500-byte PSDU: SERVICE
+// (16) + 12000 PSDU bits + 6 tail bits, terminated and open-ended. Reported as
+// decoded data bits per second of one core ("Mbit/s"): the default decoder
+// (make_viterbi_decoder, the fastest SIMD kernel), each SIMD kernel this CPU
+// supports, and libfec's viterbi27 (make_libfec_viterbi_decoder).
 //
 // Built as rfsitl_viterbi_bench (bash scripts/build.sh release).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <span>
 #include <vector>
@@ -44,25 +47,56 @@ Frame make_frame(std::size_t n_bits) {
   return f;
 }
 
-void decode(benchmark::State& state, bool terminated) {
+enum class Which { kDefault, kPortable, kSse2, kAvx2, kAvx512, kLibfec };
+
+std::unique_ptr<ofdm::ViterbiDecoder> make(Which which) {
+  switch (which) {
+    case Which::kPortable:
+      return ofdm::make_simd_viterbi_decoder(ofdm::ViterbiKernel::kPortable);
+    case Which::kSse2:
+      return ofdm::make_simd_viterbi_decoder(ofdm::ViterbiKernel::kSse2);
+    case Which::kAvx2:
+      return ofdm::make_simd_viterbi_decoder(ofdm::ViterbiKernel::kAvx2);
+    case Which::kAvx512:
+      return ofdm::make_simd_viterbi_decoder(ofdm::ViterbiKernel::kAvx512);
+    case Which::kLibfec:
+      return ofdm::make_libfec_viterbi_decoder();
+    default:
+      return ofdm::make_viterbi_decoder();
+  }
+}
+
+bool supported(Which which) {
+  switch (which) {
+    case Which::kSse2:
+      return ofdm::viterbi_kernel_supported(ofdm::ViterbiKernel::kSse2);
+    case Which::kAvx2:
+      return ofdm::viterbi_kernel_supported(ofdm::ViterbiKernel::kAvx2);
+    case Which::kAvx512:
+      return ofdm::viterbi_kernel_supported(ofdm::ViterbiKernel::kAvx512);
+    default:
+      return true;
+  }
+}
+
+void BM_Viterbi1500Bytes(benchmark::State& state, Which which, bool terminated) {
+  if (!supported(which)) {
+    state.SkipWithError("kernel not supported by this CPU");
+    return;
+  }
   const Frame frame = make_frame(kFrameBits);
-  auto decoder = ofdm::make_viterbi_decoder();
+  auto decoder = make(which);
   std::size_t errors = 0;
   for (auto _ : state) {
     std::vector<std::uint8_t> out = decoder->decode(frame.llr, kFrameBits, terminated);
     benchmark::DoNotOptimize(out.data());
     for (std::size_t i = 0; i < kFrameBits; ++i) errors += out[i] != frame.bits[i];
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kFrameBits));
+  const double decoded = static_cast<double>(state.iterations()) * static_cast<double>(kFrameBits);
+  state.SetItemsProcessed(static_cast<std::int64_t>(decoded));
+  state.counters["Mbit/s"] = benchmark::Counter(decoded / 1e6, benchmark::Counter::kIsRate);
   state.counters["bit_errors_per_frame"] =
       static_cast<double>(errors) / static_cast<double>(state.iterations());
-}
-
-void BM_Viterbi1500BytesTerminated(benchmark::State& state) {
-  decode(state, true);
-}
-void BM_Viterbi1500BytesOpenEnd(benchmark::State& state) {
-  decode(state, false);
 }
 
 /// The whole soft receive chain of the same PSDU at 54 Mb/s (64-QAM, R = 3/4):
@@ -103,8 +137,30 @@ void BM_SoftChain1500Bytes54Mbps(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_Viterbi1500BytesTerminated)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Viterbi1500BytesOpenEnd)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, default_terminated, Which::kDefault, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, default_open, Which::kDefault, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, avx512_terminated, Which::kAvx512, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, avx512_open, Which::kAvx512, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, avx2_terminated, Which::kAvx2, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, avx2_open, Which::kAvx2, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, sse2_terminated, Which::kSse2, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, sse2_open, Which::kSse2, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, portable_terminated, Which::kPortable, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, portable_open, Which::kPortable, false)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, libfec_terminated, Which::kLibfec, true)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_Viterbi1500Bytes, libfec_open, Which::kLibfec, false)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SoftChain1500Bytes54Mbps)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

@@ -12,6 +12,7 @@
 #include "rfsitl/config/settings_table.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
+#include "rfsitl/registry/mac_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 
@@ -25,13 +26,14 @@ struct DescribeOptions {
 };
 
 // Every registered component, grouped by kind in data-path order: where nodes
-// are (live sources, mobility models), the transceivers, the channel's stages,
+// are (live sources, mobility models), the transceivers, their MACs, the channel's stages,
 // and the radio whose link budget they complete.
 std::vector<const config::ComponentInfo*> all_components() {
   std::vector<const config::ComponentInfo*> out;
   for (const auto& s : position::position_source_components()) out.push_back(&s.info);
   for (const auto& m : position::mobility::mobility_components()) out.push_back(&m.info);
   for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
+  for (const mac::MacComponent& m : mac::mac_components()) out.push_back(&m.info);
   for (const auto& s : channel::channel_stage_components()) out.push_back(&s.info);
   out.push_back(&channel::radio_info());
   out.push_back(&channel::front_end_info());

@@ -112,6 +112,7 @@ struct RunOptions {
   bool no_skip = false;
   bool shared_noise = false;
   bool ip = false;
+  std::optional<std::string> mac;  ///< --mac NAME
   std::string summary_json;
   std::optional<std::string> mavlink;  ///< --mavlink ENDPOINT[+STEP]
 };
@@ -140,6 +141,7 @@ scenario::Scenario build_scenario(const RunOptions& o) {
   if (o.no_skip) scenario::apply_setting(s, "engine.skip_idle_receivers", "false", "--no-skip");
   if (o.shared_noise) scenario::apply_setting(s, "channel.shared_noise", "true", "--shared-noise");
   if (o.ip) scenario::apply_setting(s, "ip.enabled", "true", "--ip");
+  if (o.mac) scenario::apply_setting(s, "mac.type", *o.mac, "--mac");
   if (o.scenario_path.empty()) s.nodes = scenario::default_formation(s.nodes.size(), s.channel);
   if (o.arch) {
     // Every built-in transceiver moves: threads = in the emulator, split = one
@@ -169,7 +171,7 @@ std::string format_position(const std::optional<Position>& p) {
 }
 
 void print_banner(const scenario::Scenario& s, const agent_port::NetPortsConfig& sc,
-                  const LiveSources& sources) {
+                  const LiveSources& sources, const engine::Engine& engine) {
   const double tick_ms = 1e3 * s.timing.tick_samples / s.timing.sample_rate_hz;
   std::printf(
       "rfsitl: scenario '%s': %zu nodes, fs %.0f Hz, tick %u samples (%.3f ms), %s x%.2f, "
@@ -191,6 +193,7 @@ void print_banner(const scenario::Scenario& s, const agent_port::NetPortsConfig&
                 agent_port::NetPorts::net_port(sc, n.id), own_net ? "" : " (its program's)",
                 sources.location_port(i).c_str(), where.c_str());
   }
+  if (s.mac.type != "none") std::printf("rfsitl: mac %s\n", engine.mac_description(0).c_str());
 }
 
 void print_stats_line(engine::Engine& e) {
@@ -440,7 +443,7 @@ int run(const RunOptions& o) {
     if (pcap) std::remove(o.pcap_path.c_str());  // unlinked; the object closes it later
     return 2;
   }
-  print_banner(s, sc, *sources);
+  print_banner(s, sc, *sources, *engine);
   if (ipnet) print_ip_banner(*ipnet);
   if (dashboard) {
     const char* control = !o.dashboard_control ? "off; --dashboard-control allows it"
@@ -528,6 +531,7 @@ int run(const RunOptions& o) {
     if (pcap) j["pcap"] = pcap->summary();
     if (sigmf) j["sigmf"] = sigmf->summary();
     if (ipnet) j["ip"] = ipnet->summary();
+    j["mac"] = {{"type", s.mac.type}, {"description", engine->mac_description(0)}};
     summary_out << monitor::json_text(j, 2) << "\n";
     summary_out.flush();
     if (!summary_out) {
@@ -592,6 +596,9 @@ std::function<int()> add_run_command(CLI::App& parent) {
       "--ip", opts->ip,
       "IP on every node: a network namespace each (rfsitl-<net base>-<id>) with a TAP "
       "interface whose frames cross the radio channel (root; the scenario's ip: section)");
+  cmd->add_option("--mac", opts->mac,
+                  "Every node's MAC: none (the paper's: send when idle), csma (802.11 DCF-like) "
+                  "or tdma (the scenario's mac: section sets their settings)");
   cmd->add_flag("--no-dashboard", opts->no_dashboard, "Do not serve the web dashboard");
   CLI::Option* control = cmd->add_flag("--dashboard-control", opts->dashboard_control,
                                        "Let dashboard viewers move nodes (off by default)");

@@ -20,7 +20,9 @@
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/engine/tick_clock.hpp"
 #include "rfsitl/engine/traffic_schedule.hpp"
+#include "rfsitl/common/xoshiro256.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
+#include "rfsitl/registry/mac_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
 
@@ -41,13 +43,32 @@ struct Decoded {
   bool payload_valid;
 };
 
-struct Node : phy::RxHandler {
+/// A MAC's verdict on a frame that awaited one, for the ledger (serially).
+struct PendingVerdict {
+  std::uint32_t frame;  // the serial of the frame's first attempt
+  mac::Verdict verdict;
+};
+
+struct Node : phy::RxHandler, mac::FrameQueue {
   NodeId id = 0;
   std::unique_ptr<phy::Transceiver> radio;
+  std::unique_ptr<mac::Mac> mac;
   std::unique_ptr<SpscRing<QueuedFrame>> queue;  // from the agent ports (submit())
   std::unique_ptr<std::mutex> producers;         // taken by submit(): one producer at a time
-  std::vector<std::uint8_t> typed_payload;       // the frame on the air with its kind byte
+  std::vector<std::uint8_t> typed_payload;       // the frame on the air with kind and MAC header
   std::deque<NetFrame> injected;                 // scenario traffic, engine thread only
+  SampleTime queue_now = 0;                      // the tick the MAC takes frames at
+  // Carrier sense (MACs that listen): the energy threshold (absolute power),
+  // and what this tick's RX phase found.
+  std::optional<float> busy_power;
+  bool sensed_busy = false;
+  bool hears_others = false;  // another transmitter's signal reaches it this tick
+  // The MAC's frame that awaits a verdict (the serial of its first attempt),
+  // and a verdict reached during the TX phase, for the ledger.
+  std::uint32_t mac_frame = 0;
+  std::optional<PendingVerdict> verdict;
+  bool started_awaits_verdict = false;  // the frame started this tick awaits one
+  bool started_first_attempt = true;    // ... and is not a repeat
   std::vector<cf32> tx;                          // this tick's TX samples
   std::vector<cf32> rx;                          // this tick's RX samples
   bool active = false;                           // tx carries signal this tick
@@ -73,6 +94,22 @@ struct Node : phy::RxHandler {
     if (!ev.header_valid) return;
     decoded.push_back(Decoded{ev.tag, {ev.payload.begin(), ev.payload.end()}, ev.payload_valid});
     if (reporter->active()) reporter->decoded(index, tick_time, ev);
+  }
+
+  // mac::FrameQueue: the scenario's traffic first, then the TX queue's head
+  // once it has arrived.
+  const NetFrame* peek() override {
+    if (!injected.empty()) return &injected.front();
+    const QueuedFrame* head = queue->peek();
+    return head != nullptr && head->not_before <= queue_now ? &head->frame : nullptr;
+  }
+  NetFrame take() override {
+    if (!injected.empty()) {
+      NetFrame f = std::move(injected.front());
+      injected.pop_front();
+      return f;
+    }
+    return std::move(queue->try_pop()->frame);
   }
 };
 
@@ -134,6 +171,7 @@ class LockStepEngine final : public Engine {
       sensitivity.push_back(node.radio->sensitivity_snr_db());
       latency = std::max(latency, node.radio->rx_latency_samples());
     }
+    make_macs(latency);
     // Remote transceivers come first in the TX dealing order so that each gets
     // a worker of its own (the pool has at least as many workers as remotes).
     for (std::size_t i = 0; i < n; ++i) {
@@ -165,7 +203,12 @@ class LockStepEngine final : public Engine {
   }
 
   std::size_t max_payload(std::size_t node) const override {
-    return nodes_[node].radio->max_payload() - (typed_ ? kKindBytes : 0);
+    const Node& n = nodes_[node];
+    return n.mac->max_radio_payload() - (typed_ ? kKindBytes + n.mac->header_bytes() : 0);
+  }
+
+  std::string mac_description(std::size_t node) const override {
+    return nodes_[node].mac->describe();
   }
 
   bool submit(std::size_t node, NetFrame&& frame) override {
@@ -423,33 +466,44 @@ class LockStepEngine final : public Engine {
     ledger_->settle(now_, channel_);
   }
 
-  /// Per node, in parallel: start a queued frame if idle, produce B samples.
+  /// Per node, in parallel: the MAC may start a frame, then B samples. A
+  /// node's MAC is called by one worker at a time, and only here and in
+  /// handle_decodes().
   void tx_phase(std::size_t i) {
     Node& node = nodes_[i];
     node.radio->begin_tick(static_cast<std::uint64_t>(now_) / block_, now_);
-    if (!node.radio->tx_busy()) {
-      std::optional<NetFrame> next;
-      if (!node.injected.empty()) {
-        next = std::move(node.injected.front());
-        node.injected.pop_front();
-      } else if (const QueuedFrame* head = node.queue->peek(); head && head->not_before <= now_) {
-        next = std::move(node.queue->try_pop()->frame);
-      }
-      if (next) {
-        // Sender index in the top byte; the count from 1, so that 0 never names a frame.
-        const std::uint32_t serial =
-            (static_cast<std::uint32_t>(i) << 24) | (node.frames_started++ % 0xFFFFFFU + 1U);
-        std::span<const std::uint8_t> on_air = next->payload;
-        if (typed_) on_air = with_kind(*next, node.typed_payload);
-        node.started_len =
-            node.radio->start_frame(phy::FrameTag{next->src, next->dst, serial}, on_air);
-        node.started.emplace(serial, std::move(*next));
-      }
-    }
+    node.queue_now = now_;
+    const std::uint32_t frame_before = node.mac_frame;
+    const std::optional<mac::MacTransmission> send =
+        node.mac->on_tick(now_, node.radio->tx_busy(), node);
+    if (const auto v = node.mac->take_verdict()) node.verdict = PendingVerdict{frame_before, *v};
+    if (send) start(node, *send);
     // An idle transmitter's samples are never read (only active ones are
     // mixed), so it produces none: no zero fill for silence.
     node.tx_samples = node.radio->tx_busy() ? node.radio->transmit(node.tx) : 0;
     node.active = node.tx_samples > 0;
+  }
+
+  /// Starts the transmission the MAC asked for (the TX phase, node's worker).
+  void start(Node& node, const mac::MacTransmission& send) {
+    // Sender index in the top byte; the count from 1, so that 0 never names a frame.
+    const std::uint32_t serial =
+        (static_cast<std::uint32_t>(node.index) << 24) | (node.frames_started++ % 0xFFFFFFU + 1U);
+    NetFrame frame = send.frame != nullptr
+                         ? *send.frame
+                         : NetFrame{node.id, send.dst, {send.header.begin(), send.header.end()},
+                                    FrameKind::kMacControl};
+    std::span<const std::uint8_t> on_air = frame.payload;
+    if (typed_) {
+      on_air = with_kind(frame.kind, send.frame != nullptr ? send.header : std::span<const std::uint8_t>{},
+                         on_air, node.typed_payload);
+    }
+    node.started_len = node.radio->start_frame(phy::FrameTag{frame.src, frame.dst, serial}, on_air);
+    node.mac->on_sent(now_, now_ + static_cast<SampleTime>(node.started_len));
+    node.started_awaits_verdict = send.awaits_verdict;
+    node.started_first_attempt = !send.retry;
+    if (send.awaits_verdict && !send.retry) node.mac_frame = serial;
+    node.started.emplace(serial, std::move(frame));
   }
 
   /// Serially after the TX phase: the ledger learns of new frames, and active_
@@ -463,11 +517,24 @@ class LockStepEngine final : public Engine {
         active_.push_back(i);
         active_tx_.push_back({i, node.tx.data()});
       }
+      if (node.verdict) {
+        ledger_->on_frame_done(node.verdict->frame, node.verdict->verdict == mac::Verdict::kGaveUp);
+        node.verdict.reset();
+      }
       if (node.started) {
         const auto& [serial, frame] = *node.started;
         node.frame_end = now_ + static_cast<SampleTime>(node.started_len);
-        ledger_->on_transmit(serial, i, frame.dst, now_, node.frame_end);
-        reporter_.transmitted(i, serial, frame, now_, node.started_len);
+        if (frame.kind == FrameKind::kMacControl) {
+          // The MAC's own frame: never counted, but it occupies the air.
+          ledger_->on_activity(i, now_, node.frame_end);
+        } else {
+          ledger_->on_transmit(serial, i, frame.dst, now_, node.frame_end,
+                               node.started_awaits_verdict ? node.mac_frame : 0);
+        }
+        const TxRole role = frame.kind == FrameKind::kMacControl ? TxRole::kControl
+                            : node.started_first_attempt               ? TxRole::kFirst
+                                                                       : TxRole::kRepeat;
+        reporter_.transmitted(i, serial, frame, now_, node.started_len, role);
         node.started.reset();
       } else if (node.active && now_ >= node.frame_end) {
         // Signal that no frame of ours explains: an external program transmits.
@@ -519,6 +586,10 @@ class LockStepEngine final : public Engine {
       node.watched = reporter_.active() && reporter_.wants_samples(m, now_, block_);
       node.tick_time = now_;
       if (node.tx_samples > 0) node.receiver_blanked = true;
+      // Carrier sense: a node that transmits hears its own signal; whether
+      // anyone else's reaches it, its input will tell (sense()).
+      node.sensed_busy = node.tx_samples > 0;
+      node.hears_others = node.busy_power.has_value() && air_.hears_signal(m);
       if (receiver_must_run(m)) {
         node.rx_tick = Node::RxTick::kRan;
         runnable_.push_back(m);
@@ -574,13 +645,34 @@ class LockStepEngine final : public Engine {
       const std::span<cf32> y(node.rx.data() + first, block_ - first);
       air_.receive(m, first, y, node.scratch);
       decode(m, y);
+      sense(node, y);
       return;
     }
     std::array<cf32*, channel::Channel::kMaxTogether> ys{};
     for (std::size_t j = 0; j < group.size; ++j) ys[j] = nodes_[group.receivers[j]].rx.data();
     const std::span<const std::size_t> ms(group.receivers.data(), group.size);
     air_.receive_together(ms, {ys.data(), group.size}, nodes_[ms[0]].scratch);
-    for (const std::size_t m : ms) decode(m, nodes_[m].rx);
+    for (const std::size_t m : ms) {
+      decode(m, nodes_[m].rx);
+      sense(nodes_[m], nodes_[m].rx);
+    }
+  }
+
+  /// Carrier sense over the input y of a receiver that ran (or was watched):
+  /// busy when its receiver is inside a frame it detected, or when some other
+  /// transmitter reaches it and the tick's mean power exceeds the MAC's
+  /// threshold. An input that is noise alone is idle by definition, so that
+  /// watching a receiver (which computes its noise) changes no outcome.
+  static void sense(Node& node, std::span<const cf32> y) {
+    if (!node.busy_power || node.sensed_busy) return;
+    if (node.radio->rx_busy()) {
+      node.sensed_busy = true;
+      return;
+    }
+    if (!node.hears_others || y.empty()) return;
+    float power = 0.0F;
+    for (const cf32 v : y) power += std::norm(v);
+    node.sensed_busy = power > *node.busy_power * static_cast<float>(y.size());
   }
 
   /// Receiver m decodes its input y, if it runs this tick.
@@ -607,27 +699,94 @@ class LockStepEngine final : public Engine {
           std::fill(node.rx.begin(), node.rx.end(), cf32{});
         reporter_.rx_samples(m, now_, node.rx);
       }
-      for (Decoded& d : node.decoded) {
-        // A kind byte this build does not know passed the CRC only if a
-        // transceiver garbled it: counted with the failed decodes.
-        if (!d.payload_valid || (typed_ && !has_known_kind(d.payload))) {
-          NodeCounters::bump(counters_[m].rx_crc_failures);
-        } else {
-          defer_outcomes_ = true;
-          const bool for_this_node = ledger_->on_decoded(d.tag.serial, m);
-          defer_outcomes_ = false;
-          if (for_this_node) {
-            NodeCounters::bump(counters_[m].received);
-            NetFrame frame{d.tag.src, d.tag.dst, std::move(d.payload)};
-            if (typed_) strip_kind(frame);
-            reporter_.received(m, d.tag, frame, now_);
-            sink_.deliver(m, std::move(frame));
-          }
-          for (const LedgerOutcome& o : deferred_outcomes_) reporter_.outcome(o, now_);
-          deferred_outcomes_.clear();
-        }
-      }
+      if (node.busy_power) node.mac->on_sensed(node.sensed_busy);
+      for (Decoded& d : node.decoded) handle_decode(node, d);
       node.decoded.clear();
+    }
+  }
+
+  /// One decode of receiver `node`, serially: the MAC's control frames go to
+  /// the MAC, data frames to the ledger, the MAC (repeats, ACKs) and the agent.
+  void handle_decode(Node& node, Decoded& d) {
+    const std::size_t m = node.index;
+    // A kind byte this build does not know, or a frame too short for its
+    // header, passed the CRC only if a transceiver garbled it: counted with
+    // the failed decodes.
+    const std::size_t header = typed_ ? kKindBytes + node.mac->header_bytes() : 0;
+    if (!d.payload_valid || (typed_ && !has_known_kind(d.payload))) {
+      NodeCounters::bump(counters_[m].rx_crc_failures);
+      return;
+    }
+    if (typed_ && static_cast<FrameKind>(d.payload[0]) == FrameKind::kMacControl) {
+      if (d.tag.dst != node.id) return;  // overheard
+      node.mac->on_control(d.tag.src, std::span(d.payload).subspan(kKindBytes), now_);
+      if (const auto v = node.mac->take_verdict()) {
+        ledger_->on_frame_done(node.mac_frame, *v == mac::Verdict::kGaveUp);
+      }
+      return;
+    }
+    if (d.payload.size() < header) {
+      NodeCounters::bump(counters_[m].rx_crc_failures);
+      return;
+    }
+    defer_outcomes_ = true;
+    const bool for_this_node = ledger_->on_decoded(d.tag.serial, m);
+    defer_outcomes_ = false;
+    // The MAC judges by what its receiver decoded (the frame's own addresses),
+    // the ledger only keeps the books.
+    const bool to_me = d.tag.dst == node.id;
+    mac::RxDecision decision;
+    if ((to_me || d.tag.dst == kBroadcastId) && d.tag.src != node.id) {
+      const std::span<const std::uint8_t> mac_header =
+          typed_ ? std::span<const std::uint8_t>(d.payload).subspan(kKindBytes, header - kKindBytes)
+                 : std::span<const std::uint8_t>();
+      decision = node.mac->on_data(d.tag.src, mac_header, to_me, now_);
+    }
+    if (for_this_node && decision.deliver) {
+      NodeCounters::bump(counters_[m].received);
+      NetFrame frame{d.tag.src, d.tag.dst, std::move(d.payload)};
+      if (typed_) strip_header(frame, header);
+      reporter_.received(m, d.tag, frame, now_);
+      sink_.deliver(m, std::move(frame));
+    }
+    for (const LedgerOutcome& o : deferred_outcomes_) reporter_.outcome(o, now_);
+    deferred_outcomes_.clear();
+  }
+
+  /// Every node's MAC (the scenario's), after the transceivers exist.
+  void make_macs(std::size_t rx_latency) {
+    const mac::MacComponent* component = mac::find_mac(scenario_.mac.type);
+    if (component == nullptr) {
+      throw std::invalid_argument("mac: unknown type '" + scenario_.mac.type + "'");
+    }
+    const config::Settings settings =
+        scenario_.mac.settings.size() == component->info.settings.size()
+            ? scenario_.mac.settings
+            : component->info.defaults();
+    for (Node& node : nodes_) {
+      phy::Transceiver* radio = node.radio.get();
+      mac::MacContext c;
+      c.id = node.id;
+      c.index = node.index;
+      c.num_nodes = nodes_.size();
+      c.sample_rate_hz = scenario_.timing.sample_rate_hz;
+      c.tick_samples = block_;
+      c.radio_max_payload = radio->max_payload();
+      c.frame_samples = [radio](std::size_t bytes) { return radio->frame_samples(bytes); };
+      c.rx_latency_samples = rx_latency;
+      std::uint64_t mix = scenario_.seed ^ (0x6D61630000000000ULL + node.id);
+      c.seed = splitmix64(mix);
+      c.counters = &counters_[node.index].mac;
+      node.mac = component->make(settings, c);
+      if (const auto db = node.mac->carrier_sense_db()) {
+        // The receiver's input is scaled by the front end's gain g = 1 / sigma:
+        // the noise has unit power there (and so would a -120 dB floor
+        // without noise, which g is set for).
+        const double g = air_.front_end_gain();
+        const double sigma2 = scenario_.channel.noise_variance;
+        const double noise_in_y = sigma2 > 0.0 ? g * g * sigma2 : 1.0;
+        node.busy_power = static_cast<float>(noise_in_y * std::pow(10.0, *db / 10.0));
+      }
     }
   }
 

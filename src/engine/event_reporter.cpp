@@ -87,7 +87,7 @@ void EventReporter::queue_dropped(std::size_t node, const NetFrame& f, SampleTim
 }
 
 void EventReporter::transmitted(std::size_t node, std::uint32_t serial, const NetFrame& f,
-                                SampleTime start, std::size_t length) {
+                                SampleTime start, std::size_t length, TxRole role) {
   if (!active()) return;
   FrameEvent e = make(FrameEventKind::kTransmitted, node, f.src, f.dst, start);
   e.serial = serial;
@@ -95,8 +95,9 @@ void EventReporter::transmitted(std::size_t node, std::uint32_t serial, const Ne
   e.snr_db = snr_db(node, receiver_of(node, f.dst));
   e.payload = f.payload;
   e.frame_kind = f.kind;
+  e.retry = role == TxRole::kRepeat;
   emit(e);
-  in_flight_[serial] = InFlight{f.src, f.payload, f.kind};
+  if (role == TxRole::kFirst) in_flight_[serial] = InFlight{f.src, f.payload, f.kind};
 }
 
 void EventReporter::received(std::size_t rx, const phy::FrameTag& tag, const NetFrame& frame,

@@ -13,6 +13,11 @@
 
 namespace rfsitl::engine {
 
+/// What a transmission is to the reports: a frame's first (or only) attempt,
+/// a repeat of it (its outcome is reported once, under the first attempt's
+/// serial), or the MAC's own frame (no outcome).
+enum class TxRole : std::uint8_t { kFirst, kRepeat, kControl };
+
 class EventReporter {
  public:
   EventReporter(const scenario::Scenario& s, const channel::ChannelMatrix& channel);
@@ -27,7 +32,7 @@ class EventReporter {
 
   // Engine thread.
   void transmitted(std::size_t node, std::uint32_t serial, const NetFrame& f, SampleTime start,
-                   std::size_t length);
+                   std::size_t length, TxRole role);
   void received(std::size_t rx, const phy::FrameTag& tag, const NetFrame& frame,
                 SampleTime t) const;
   void outcome(const LedgerOutcome& o, SampleTime now);

@@ -31,6 +31,7 @@ NodeCountersSnapshot NodeCounters::snapshot() const {
   s.ip_refused = rd(ip_refused);
   s.to_agent_dropped = rd(to_agent_dropped);
   s.external_stalls = rd(external_stalls);
+  s.mac = mac.snapshot();
   return s;
 }
 
@@ -39,10 +40,39 @@ FrameLedger::FrameLedger(LedgerConfig config, std::span<NodeCounters> counters,
     : config_(config), counters_(counters), index_of_id_(std::move(index_of_id)) {}
 
 void FrameLedger::on_transmit(std::uint32_t serial, std::size_t tx, NodeId dst, SampleTime start,
-                              SampleTime end) {
-  records_.push_back(Record{serial, tx, dst, start, end});
+                              SampleTime end, std::uint32_t frame) {
+  records_.push_back(Record{serial, tx, dst, start, end, 0, false, false, frame});
   longest_frame_ = std::max(longest_frame_, end - start);
   NodeCounters::bump(counters_[tx].transmitted);
+  if (frame != 0) {
+    AttemptedFrame& f = attempted_[frame];
+    ++f.unsettled;
+    f.last = records_.back();
+  }
+}
+
+void FrameLedger::on_frame_done(std::uint32_t frame, bool gave_up) {
+  const auto it = attempted_.find(frame);
+  if (it == attempted_.end()) return;
+  it->second.done = true;
+  it->second.gave_up = gave_up;
+  resolve_if_done(frame);
+}
+
+void FrameLedger::resolve_if_done(std::uint32_t frame) {
+  const auto it = attempted_.find(frame);
+  AttemptedFrame& f = it->second;
+  if (!f.done || f.unsettled > 0) return;
+  if (!f.delivered) {
+    // Giving up names the MAC; the physical reason of each attempt is in the
+    // trace's per-attempt events and the MAC's counters.
+    const LossReason why = f.gave_up ? LossReason::kRetryLimit : f.last_reason;
+    NodeCounters::bump(counters_[f.last.tx].lost[static_cast<std::size_t>(why)]);
+    Record as_frame = f.last;
+    as_frame.serial = frame;
+    report(as_frame, false, f.rx, why);
+  }
+  attempted_.erase(it);
 }
 
 void FrameLedger::on_activity(std::size_t tx, SampleTime start, SampleTime end) {
@@ -70,6 +100,22 @@ bool FrameLedger::on_decoded(std::uint32_t serial, std::size_t rx) {
     return false;
   }
   ++r.decodes;
+  if (r.frame != 0) {
+    // An attempt: the frame is delivered by the first attempt its destination
+    // decodes; a repeat decoded later is the MAC's duplicate, not counted.
+    r.settled = true;
+    AttemptedFrame& f = attempted_.at(r.frame);
+    --f.unsettled;
+    if (!f.delivered) {
+      f.delivered = true;
+      NodeCounters::bump(counters_[r.tx].delivered);
+      Record as_frame = r;
+      as_frame.serial = r.frame;
+      report(as_frame, true, rx, std::nullopt);
+    }
+    resolve_if_done(r.frame);
+    return true;
+  }
   // A unicast frame is settled by its one decode; a broadcast waits for every
   // receiver's verdict and counts as delivered if any receiver decoded it.
   if (!broadcast) {
@@ -127,6 +173,15 @@ void FrameLedger::settle_record(Record& r, const channel::ChannelMatrix& channel
   }
   const auto rx = index_of_id_(r.dst);
   const LossReason why = rx ? loss_reason(r, *rx, channel) : LossReason::kUnknownDestination;
+  if (r.frame != 0) {
+    // One attempt failed; the frame is counted when the MAC is done with it.
+    AttemptedFrame& f = attempted_.at(r.frame);
+    f.last_reason = why;
+    f.rx = rx;
+    --f.unsettled;
+    resolve_if_done(r.frame);
+    return;
+  }
   NodeCounters::bump(c.lost[static_cast<std::size_t>(why)]);
   report(r, false, rx, why);
 }

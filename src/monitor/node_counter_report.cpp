@@ -74,6 +74,10 @@ std::string node_counters_table(std::span<const NodeId> ids, std::span<const Sna
   };
   std::vector<Column> columns;
   for (const NodeCounterField& f : kNodeCounterFields) {
+    if (f.table_hides_zero &&
+        std::all_of(c.begin(), c.end(), [&f](const Snapshot& s) { return f.read(s) == 0; })) {
+      continue;
+    }
     if (f.by_reason == nullptr) {
       columns.push_back({std::string(f.column), &f, 0});
       continue;

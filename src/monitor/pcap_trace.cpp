@@ -149,6 +149,8 @@ std::string comment_of(const engine::FrameEvent& e, double sample_rate_hz) {
   if (!e.phy.empty()) s += " phy=" + e.phy;
   if (e.rate_mbps != 0) s += " rate_mbps=" + std::to_string(e.rate_mbps);
   if (e.frame_kind == FrameKind::kEthernet) s += " kind=ethernet";
+  if (e.frame_kind == FrameKind::kMacControl) s += " kind=mac_control";
+  if (e.retry) s += " retry";
   return s;
 }
 
@@ -312,17 +314,28 @@ class PcapTraceImpl final : public PcapTrace {
     b.u8(static_cast<std::uint8_t>(clamp_dbm(settings_.noise_db)));
     b.put_u16_at(rt_len_at, static_cast<std::uint16_t>(b.size() - packet_at));
 
+    std::uint8_t mac[6];
+    if (e.frame_kind == FrameKind::kMacControl) {
+      // The MAC's ACK as 802.11's own (control type 1, subtype 13): frame
+      // control, duration, receiver address. No FCS.
+      b.u8(0xD4);
+      b.u8(0x00);
+      b.u16(0);
+      mac_of(e.dst, mac);
+      b.raw(mac, 6);
+      finish_packet(e, b, at, lengths_at, packet_at);
+      return;
+    }
     // 802.11 data frame (type 2, subtype 0), ToDS = FromDS = 0 (IBSS):
     // addr1 = DA, addr2 = SA, addr3 = BSSID. No FCS.
-    b.u8(0x08);  // frame control: version 0, type data, subtype 0
-    b.u8(0x00);  // flags
+    b.u8(0x08);                   // frame control: version 0, type data, subtype 0
+    b.u8(e.retry ? 0x08 : 0x00);  // flags: Retry on a MAC's repeat
     b.u16(0);    // duration
     // An Ethernet frame from an IP node keeps its own addresses and EtherType,
     // so Wireshark decodes the IP packet inside; anything else is an agent's
     // payload under the experimental EtherType.
     const bool ethernet =
         e.frame_kind == FrameKind::kEthernet && e.payload.size() >= kEthernetHeaderBytes;
-    std::uint8_t mac[6];
     if (ethernet) {
       b.raw(e.payload.data(), 6);      // destination
       b.raw(e.payload.data() + 6, 6);  // source
@@ -342,7 +355,12 @@ class PcapTraceImpl final : public PcapTrace {
       b.raw(kLlcSnap, sizeof kLlcSnap);
       b.raw(e.payload.data(), e.payload.size());
     }
+    finish_packet(e, b, at, lengths_at, packet_at);
+  }
 
+  /// The packet's lengths, padding and comment, and the block's end.
+  void finish_packet(const engine::FrameEvent& e, Bytes& b, std::size_t at,
+                     std::size_t lengths_at, std::size_t packet_at) const {
     const auto packet_len = static_cast<std::uint32_t>(b.size() - packet_at);
     b.put_u32_at(lengths_at, packet_len);
     b.put_u32_at(lengths_at + 4, packet_len);

@@ -29,6 +29,7 @@
 #include "channel_reading.hpp"
 #include "rfsitl/config/setting.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
+#include "rfsitl/registry/mac_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
@@ -152,6 +153,27 @@ void read_ip(Context& c, const Entry& at, IpConfig& ip) {
   sec.finish();
 }
 
+// `mac: {type: csma, cw_min: 31}`: a registered MAC and its settings.
+void read_mac(Context& c, const Entry& at, MacChoice& mac) {
+  if (!at) return;
+  Section sec(c, at);
+  std::vector<std::string> names;
+  std::vector<const config::ComponentInfo*> macs;
+  for (const auto& component : mac::mac_components()) {
+    names.push_back(component.info.name);
+    macs.push_back(&component.info);
+  }
+  if (const Entry type = sec.take("type")) {
+    const std::string name = text(c, type);
+    c.check_name(name, type.key, names);
+    if (name != mac.type) mac.settings = mac::find_mac(name)->info.defaults();
+    mac.type = name;
+  }
+  const config::ComponentInfo& info = mac::find_mac(mac.type)->info;
+  if (mac.settings.size() == 0) mac.settings = info.defaults();
+  read_declared(c, sec, at, info, macs, mac.settings);
+}
+
 void read_external(Context& c, const Entry& at, ExternalConfig& e) {
   Section sec(c, at);
   sec.get("socket", e.socket_path);
@@ -216,6 +238,7 @@ void read_settings(Context& c, Section& sec, Scenario& s) {
   read_engine(c, sec.take("engine"), s.engine);
   read_external(c, sec.take("external"), s.external);
   read_ip(c, sec.take("ip"), s.ip);
+  read_mac(c, sec.take("mac"), s.mac);
 }
 
 Scenario read_scenario(Context& c, const YAML::Node& root) {

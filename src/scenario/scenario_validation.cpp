@@ -317,6 +317,15 @@ void validate(const Scenario& s, const Context& c) {
   check_ports(s.ports, c, listed, max_id);
   check_traffic(s, c, listed);
   check_ip(s, c);
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    // The MAC runs in the engine around the node's transceiver; an external
+    // transceiver's program sends when it likes.
+    if (s.mac.type != "none" && s.phy_of(i).external_program()) {
+      c.fail("nodes[" + std::to_string(i) + "].phy",
+             "an external transceiver sends on its own schedule and cannot run under mac '" +
+                 s.mac.type + "'; use mac: {type: none} or give this node a built-in phy");
+    }
+  }
 }
 
 }  // namespace rfsitl::scenario::detail

@@ -51,7 +51,19 @@ class DescribeTest(unittest.TestCase):
         self.assertRegex(r.stderr, r"no phy named 'lora' \(known: dsss, external, .*gmsk.*\)")
         r = cli("describe", "antenna")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("unknown kind 'antenna' (known: position, mobility, phy, channel, radio)", r.stderr)
+        self.assertIn("unknown kind 'antenna' (known: position, mobility, phy, mac, channel, radio)",
+                      r.stderr)
+
+    def test_lists_every_registered_mac_and_the_readme_shows_their_tables(self):
+        r = cli("describe", "mac")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(re.findall(r"^mac\s+(\S+)\s", r.stdout, re.M), ["csma", "none", "tdma"])
+        with open(os.path.join(SOURCE_DIR, "README.md"), encoding="utf-8") as f:
+            readme = f.read()
+        for name in ("csma", "tdma"):
+            table = cli("describe", "mac", name).stdout.split("\n\n", 1)[1].strip()
+            self.assertTrue(table in readme, f"README.md's table of mac {name} is stale: paste "
+                            f"the output of `rfsitl describe mac {name}`")
 
     def test_scenario_readme_tables_are_the_generated_ones(self):
         with open(os.path.join(SOURCE_DIR, "scenarios", "README.md"), encoding="utf-8") as f:

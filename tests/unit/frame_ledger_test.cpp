@@ -286,5 +286,58 @@ TEST(FrameLedger, EverySettledFrameIsEitherDeliveredOrLost) {
   EXPECT_GE(decodes_handed_over, delivered);  // broadcasts may be handed to several nodes
 }
 
+// A MAC's frame sent in attempts (serials 10, 11, 12 of frame 10): counted once.
+
+TEST(FrameLedgerAttempts, TheFirstDecodedAttemptDeliversTheFrameOnce) {
+  World w({0.0, 5.0});
+  w.ledger.on_transmit(10, 0, 2, 0, kLen, 10);
+  w.ledger.settle(kLen + kGrace, w.channel);  // the first attempt was not decoded
+  EXPECT_EQ(w.at(0).lost_total(), 0U) << "the MAC may still retry";
+  w.ledger.on_transmit(11, 0, 2, 3 * kLen, 4 * kLen, 10);
+  EXPECT_TRUE(w.ledger.on_decoded(11, 1));
+  EXPECT_EQ(w.at(0).delivered, 1U);
+  // Its ACK was lost: the MAC sends a third attempt, decoded again (a repeat).
+  w.ledger.on_transmit(12, 0, 2, 6 * kLen, 7 * kLen, 10);
+  EXPECT_TRUE(w.ledger.on_decoded(12, 1)) << "handed to the MAC, which drops the repeat";
+  w.ledger.on_frame_done(10, false);
+  w.settle_all();
+  EXPECT_EQ(w.at(0).transmitted, 3U);
+  EXPECT_EQ(w.at(0).delivered, 1U);
+  EXPECT_EQ(w.at(0).lost_total(), 0U);
+  EXPECT_EQ(w.ledger.in_flight(), 0U);
+}
+
+TEST(FrameLedgerAttempts, AFrameGivenUpIsLostOnceWithTheRetryLimitReason) {
+  World w({0.0, 5.0});
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const SampleTime start = 3 * kLen * k;
+    w.ledger.on_transmit(20 + k, 0, 2, start, start + kLen, 20);
+    w.ledger.settle(start + kLen + kGrace, w.channel);
+  }
+  EXPECT_EQ(w.at(0).lost_total(), 0U);
+  w.ledger.on_frame_done(20, true);
+  EXPECT_EQ(w.lost(0, LossReason::kRetryLimit), 1U);
+  EXPECT_EQ(w.at(0).lost_total(), 1U);
+  EXPECT_EQ(w.at(0).transmitted, 3U);
+}
+
+TEST(FrameLedgerAttempts, AVerdictBeforeTheLastAttemptSettlesWaitsForIt) {
+  World w({0.0, 5.0});
+  w.ledger.on_transmit(30, 0, 2, 0, kLen, 30);
+  w.ledger.on_frame_done(30, true);
+  EXPECT_EQ(w.at(0).lost_total(), 0U) << "the attempt still awaits its receiver's verdict";
+  w.ledger.settle(kLen + kGrace, w.channel);
+  EXPECT_EQ(w.lost(0, LossReason::kRetryLimit), 1U);
+}
+
+TEST(FrameLedgerAttempts, AcknowledgedButNeverDecodedKeepsThePhysicalReason) {
+  // (Only a late decode can make this happen; the books still close.)
+  World w({0.0, 500.0});  // far below sensitivity
+  w.ledger.on_transmit(40, 0, 2, 0, kLen, 40);
+  w.ledger.settle(kLen + kGrace, w.channel);
+  w.ledger.on_frame_done(40, false);
+  EXPECT_EQ(w.lost(0, LossReason::kBelowSensitivity), 1U);
+}
+
 }  // namespace
 }  // namespace rfsitl::engine

@@ -3,6 +3,7 @@
 // in its order, under the names users depend on.
 #include "rfsitl/engine/node_counter_fields.hpp"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <map>
@@ -27,7 +28,7 @@ engine::NodeCountersSnapshot distinct_values() {
   c.queue_dropped = 2;
   c.transmitted = 3;
   c.delivered = 4;
-  c.lost = {5, 6, 7, 8, 9};
+  c.lost = {5, 6, 7, 8, 9, 10};
   c.received = 10;
   c.rx_crc_failures = 11;
   c.framing_errors = 12;
@@ -35,6 +36,7 @@ engine::NodeCountersSnapshot distinct_values() {
   c.ip_refused = 18;
   c.queue_depth = 16;
   c.external_stalls = 17;
+  c.mac = {19, 20, 21, 22, 23, 24, 25, 26};
   return c;
 }
 
@@ -50,7 +52,7 @@ const std::map<std::string, Expected>& expected_scalars() {
       {"queue_dropped", {"rfsitl_frames_queue_dropped_total", 2}},
       {"transmitted", {"rfsitl_frames_transmitted_total", 3}},
       {"delivered", {"rfsitl_frames_delivered_total", 4}},
-      {"pending", {"rfsitl_frames_pending", 959}},
+      {"pending", {"rfsitl_frames_pending", 949}},
       {"received", {"rfsitl_frames_received_total", 10}},
       {"rx_crc_failures", {"rfsitl_rx_crc_failures_total", 11}},
       {"framing_errors", {"rfsitl_framing_errors_total", 12}},
@@ -58,6 +60,14 @@ const std::map<std::string, Expected>& expected_scalars() {
       {"to_agent_dropped", {"rfsitl_frames_to_agent_dropped_total", 13}},
       {"queue_depth", {"rfsitl_tx_queue_depth", 16}},
       {"external_stalls", {"rfsitl_external_stalls_total", 17}},
+      {"mac_retries", {"rfsitl_mac_retries_total", 19}},
+      {"mac_ack_timeouts", {"rfsitl_mac_ack_timeouts_total", 20}},
+      {"mac_retry_drops", {"rfsitl_mac_retry_drops_total", 21}},
+      {"mac_duplicates", {"rfsitl_mac_duplicates_total", 22}},
+      {"mac_control_sent", {"rfsitl_mac_control_frames_total", 23}},
+      {"mac_backoff_slots", {"rfsitl_mac_backoff_slots_total", 24}},
+      {"mac_busy_ticks", {"rfsitl_mac_busy_ticks_total", 25}},
+      {"mac_sensed_ticks", {"rfsitl_mac_sensed_ticks_total", 26}},
   };
   return m;
 }
@@ -92,7 +102,8 @@ TEST(NodeCounterFields, DistinctValuesLandUnderTheirJsonKeys) {
                   {"collision", 6},
                   {"half_duplex", 7},
                   {"decode_failure", 8},
-                  {"unknown_destination", 9}};
+                  {"unknown_destination", 9},
+                  {"retry_limit", 10}};
   EXPECT_EQ(node_counters_json(distinct_values()), want);
 }
 
@@ -141,14 +152,34 @@ TEST(NodeCounterFields, SummaryTableHasAColumnPerFieldInOrder) {
   // The columns the table has always had, then the ones added since.
   const std::vector<std::string> want_titles = {
       "node",      "in",       "tx",      "delivered", "lost:sen", "lost:col", "lost:hd",
-      "lost:dec",  "lost:dst", "q-drop",  "pending",   "received", "crc-fail", "to-agent-drop",
-      "frame-err", "ip-ref",   "q-depth", "stalls"};
+      "lost:dec",  "lost:dst", "lost:retry", "q-drop", "pending", "received", "crc-fail",
+      "to-agent-drop", "frame-err", "ip-ref", "q-depth", "stalls", "retry", "ack-to", "rl-drop",
+      "dup", "ctl", "backoff", "busy", "sensed"};
   EXPECT_EQ(titles, want_titles);
-  const std::vector<std::uint64_t> want_values = {7, 1000, 3,  4,  5,  6,  7,  8,  9,
-                                                  2, 959,  10, 11, 13, 12, 18, 16, 17};
+  const std::vector<std::uint64_t> want_values = {7,  1000, 3,  4,  5,  6,  7,  8,  9,  10, 2,
+                                                  949, 10, 11, 13, 12, 18, 16, 17, 19, 20, 21,
+                                                  22, 23,  24, 25, 26};
   EXPECT_EQ(values, want_values);
   // Right-aligned under its title.
   EXPECT_EQ(lines[0].size(), lines[1].size());
+}
+
+TEST(NodeCounterFields, TheTableLeavesOutMacColumnsThatAreZeroEverywhere) {
+  const std::vector<NodeId> ids = {7, 8};
+  engine::NodeCountersSnapshot one_retry;
+  one_retry.mac.retries = 1;
+  const auto titles_of = [&](const std::vector<engine::NodeCountersSnapshot>& c) {
+    std::istringstream head(lines_of(node_counters_table(ids, c))[0]);
+    std::vector<std::string> titles;
+    for (std::string t; head >> t;) titles.push_back(t);
+    return titles;
+  };
+  const auto without = titles_of({{}, {}});
+  EXPECT_EQ(std::count(without.begin(), without.end(), "retry"), 0);
+  EXPECT_EQ(without.back(), "stalls");
+  const auto with = titles_of({{}, one_retry});
+  EXPECT_EQ(with.back(), "retry");  // the one MAC counter that is not zero
+  EXPECT_EQ(with.size(), without.size() + 1);
 }
 
 TEST(NodeCounterFields, StatsJsonAndMetricsOfARunCarryEveryField) {

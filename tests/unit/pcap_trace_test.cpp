@@ -357,6 +357,36 @@ TEST(PcapTrace, AnIpNodesEthernetFrameKeepsItsAddressesAndEtherType) {
       << raw.packets[0].comment;
 }
 
+TEST(PcapTrace, TheMacsAckIsAn80211AckAndARepeatCarriesTheRetryFlag) {
+  TempDir dir;
+  PcapTraceSettings s;
+  s.path = dir.path("mac.pcapng");
+  auto ack = event(FrameEventKind::kTransmitted, 100, 2, 1, 2, 0x01000007, {1, 0, 5});
+  ack.frame_kind = FrameKind::kMacControl;
+  auto repeat = event(FrameEventKind::kTransmitted, 200, 1, 2, 1, 0x00000009, {7, 7});
+  repeat.retry = true;
+  auto trace = make_pcap_trace(s);
+  trace->on_frame_event(ack);
+  trace->on_frame_event(repeat);
+  trace->flush();
+  const LibpcapFile f = read_libpcap(s.path);
+  ASSERT_EQ(f.packets.size(), 2U);
+  // After the radiotap header (its length at bytes 2..3): frame control 0xD4
+  // (control, subtype 13: ACK), duration, the receiver's address; nothing more.
+  const std::vector<std::uint8_t>& a = f.packets[0].data;
+  const std::size_t rt = a[2] | (a[3] << 8);
+  ASSERT_EQ(a.size(), rt + 10);
+  EXPECT_EQ(a[rt], 0xD4);
+  EXPECT_EQ(a[rt + 1], 0x00);
+  EXPECT_EQ(std::vector<std::uint8_t>(a.begin() + static_cast<std::ptrdiff_t>(rt + 4), a.end()),
+            mac(1));
+  const Decoded d = decode(f.packets[1].data);
+  EXPECT_EQ(d.fc, (std::vector<std::uint8_t>{0x08, 0x08}));  // data, Retry
+  const RawFile raw = read_raw(s.path);
+  EXPECT_NE(raw.packets[0].comment.find(" kind=mac_control"), std::string::npos);
+  EXPECT_NE(raw.packets[1].comment.find(" retry"), std::string::npos);
+}
+
 TEST(PcapTrace, SignalAndNoiseAreClampedToInt8) {
   TempDir dir;
   PcapTraceSettings s;

@@ -84,6 +84,14 @@ TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
       {"to_agent_dropped", "rfsitl_frames_to_agent_dropped_total"},
       {"queue_depth", "rfsitl_tx_queue_depth"},
       {"external_stalls", "rfsitl_external_stalls_total"},
+      {"mac_retries", "rfsitl_mac_retries_total"},
+      {"mac_ack_timeouts", "rfsitl_mac_ack_timeouts_total"},
+      {"mac_retry_drops", "rfsitl_mac_retry_drops_total"},
+      {"mac_duplicates", "rfsitl_mac_duplicates_total"},
+      {"mac_control_sent", "rfsitl_mac_control_frames_total"},
+      {"mac_backoff_slots", "rfsitl_mac_backoff_slots_total"},
+      {"mac_busy_ticks", "rfsitl_mac_busy_ticks_total"},
+      {"mac_sensed_ticks", "rfsitl_mac_sensed_ticks_total"},
   };
   for (const auto& n : stats.at("nodes")) {
     const std::string node = "node=\"" + std::to_string(n.at("id").get<unsigned>()) + "\"";

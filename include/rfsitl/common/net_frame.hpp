@@ -9,11 +9,12 @@
 namespace rfsitl {
 
 /// What a frame carries. The kind travels on the air (one byte before the
-/// payload) only with typed framing, i.e. when IP is on; otherwise every
-/// frame is kAgent and the frame on the air is exactly the paper's.
+/// payload) only with typed framing, i.e. when IP or a MAC is on; otherwise
+/// every frame is kAgent and the frame on the air is exactly the paper's.
 enum class FrameKind : std::uint8_t {
-  kAgent = 0,     ///< an agent's payload from its net port (UB-ANC framing)
-  kEthernet = 1,  ///< an Ethernet frame from the node's TAP interface (IPv4, IPv6, ARP)
+  kAgent = 0,       ///< an agent's payload from its net port (UB-ANC framing)
+  kEthernet = 1,    ///< an Ethernet frame from the node's TAP interface (IPv4, IPv6, ARP)
+  kMacControl = 2,  ///< the MAC's own frame (an ACK): never handed in, never delivered
 };
 
 struct NetFrame {

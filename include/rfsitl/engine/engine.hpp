@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "rfsitl/common/net_frame.hpp"
@@ -63,6 +64,9 @@ class Engine : public position::PositionSink {
   /// Largest payload a frame from node `node` may carry (with IP on, one byte
   /// less than its transceiver's: the frame's kind travels on the air).
   virtual std::size_t max_payload(std::size_t node) const = 0;
+
+  /// Node `node`'s MAC and its times as really used (one line, for the banner).
+  virtual std::string mac_description(std::size_t node) const = 0;
 
   /// Moves node `node` (nullopt: position unknown, no links). Thread-safe; takes
   /// effect at the next tick. Its velocity is then estimated from its successive

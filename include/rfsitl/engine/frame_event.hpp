@@ -42,6 +42,8 @@ struct FrameEvent {
   std::vector<std::uint8_t> payload;  ///< the net frame's payload (without src/dst)
   /// What the payload is: an agent's bytes, or (IP on) an Ethernet frame.
   FrameKind frame_kind = FrameKind::kAgent;
+  /// kTransmitted: a repeat of a frame already sent (the MAC's retry).
+  bool retry = false;
 };
 
 }  // namespace rfsitl::engine

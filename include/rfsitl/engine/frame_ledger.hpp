@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <span>
+#include <unordered_map>
 #include <vector>
 
 #include "rfsitl/channel/channel_matrix.hpp"
@@ -42,9 +43,18 @@ class FrameLedger {
               std::function<std::optional<std::size_t>(NodeId)> index_of_id);
 
   /// A frame with `serial` from node index `tx` to node id `dst` occupies the air
-  /// during [start, end).
+  /// during [start, end). `frame` != 0: this transmission is an attempt of the
+  /// frame whose first attempt had serial `frame` (== serial for the first),
+  /// and the frame's outcome waits for on_frame_done(): it is counted once,
+  /// delivered if any attempt was decoded by its destination.
   void on_transmit(std::uint32_t serial, std::size_t tx, NodeId dst, SampleTime start,
-                   SampleTime end);
+                   SampleTime end, std::uint32_t frame = 0);
+
+  /// The MAC's verdict on the frame whose first attempt had serial `frame`: no
+  /// more attempts will come. Lost (once its attempts are settled, and if
+  /// none was decoded) with the last attempt's reason, or kRetryLimit when the
+  /// MAC `gave_up`.
+  void on_frame_done(std::uint32_t frame, bool gave_up);
 
   /// Node `tx` put signal on the air during [start, end) that is no frame the
   /// emulator started (an external program's transmission). It is never
@@ -82,7 +92,21 @@ class FrameLedger {
     std::uint32_t decodes = 0;  // receivers addressed by this frame that decoded it
     bool settled = false;
     bool activity = false;  // on_activity(): not a frame, never counted
+    std::uint32_t frame = 0;  // an attempt of this MAC frame (its first serial); 0: none
   };
+
+  /// A frame sent in attempts (on_transmit with `frame`), until it is counted.
+  struct AttemptedFrame {
+    bool delivered = false;
+    bool done = false;  // the MAC's verdict came
+    bool gave_up = false;
+    std::uint32_t unsettled = 0;  // attempts awaiting their verdict
+    LossReason last_reason = LossReason::kDecodeFailure;
+    std::optional<std::size_t> rx;
+    Record last;  // the latest attempt, for the outcome report
+  };
+  void resolve_if_done(std::uint32_t frame);
+  std::unordered_map<std::uint32_t, AttemptedFrame> attempted_;
 
   LossReason loss_reason(const Record& r, std::size_t rx,
                          const channel::ChannelMatrix& channel) const;

@@ -34,6 +34,8 @@ inline constexpr std::array<LossReasonInfo, kNumLossReasons> kLossReasons{{
      "None of the above, yet the receiver did not decode it (CRC)"},
     {LossReason::kUnknownDestination, "unknown_destination", "dst", "unknown dst",
      "The destination names no node of the scenario"},
+    {LossReason::kRetryLimit, "retry_limit", "retry", "retry limit",
+     "The MAC gave up after its retry limit, and none of the attempts arrived"},
 }};
 
 /// Prometheus metric type: a counter only grows, a gauge goes up and down.
@@ -55,6 +57,9 @@ struct NodeCounterField {
   std::string_view column;  ///< end-of-run table header (short: the terminal is narrow)
   std::uint64_t (*read)(const NodeCountersSnapshot&);
   std::array<std::uint64_t, kNumLossReasons> NodeCountersSnapshot::*by_reason = nullptr;
+  /// The end-of-run table leaves the column out while every node has 0 (the
+  /// MAC's counters in a run without one).
+  bool table_hides_zero = false;
 };
 
 /// A field's reader from its member (a function pointer keeps the table constexpr
@@ -110,6 +115,39 @@ inline constexpr std::array kNodeCounterFields{
                      "Replies the node's external process owed but did not send within "
                      "external.reply_timeout_s; the whole engine waited that long each time.",
                      "ext. stalls", "stalls", read_member<&NodeCountersSnapshot::external_stalls>},
+    // The MAC's (zero with mac none).
+    NodeCounterField{"mac_retries", "rfsitl_mac_retries_total", CounterKind::kCounter,
+                     "Transmissions that repeated a unicast frame after its ACK timed out.",
+                     "MAC retries", "retry",
+                     [](const NodeCountersSnapshot& s) { return s.mac.retries; }, nullptr, true},
+    NodeCounterField{"mac_ack_timeouts", "rfsitl_mac_ack_timeouts_total", CounterKind::kCounter,
+                     "Unicast transmissions whose ACK did not come in time.", "ACK timeouts",
+                     "ack-to", [](const NodeCountersSnapshot& s) { return s.mac.ack_timeouts; }, nullptr, true},
+    NodeCounterField{"mac_retry_drops", "rfsitl_mac_retry_drops_total", CounterKind::kCounter,
+                     "Frames the MAC gave up after its retry limit (lost: retry_limit unless "
+                     "an attempt arrived and only its ACKs were lost).",
+                     "retry-limit drops", "rl-drop",
+                     [](const NodeCountersSnapshot& s) { return s.mac.retry_drops; }, nullptr, true},
+    NodeCounterField{"mac_duplicates", "rfsitl_mac_duplicates_total", CounterKind::kCounter,
+                     "Received repeats of a frame already delivered, dropped by sequence number.",
+                     "duplicates", "dup",
+                     [](const NodeCountersSnapshot& s) { return s.mac.duplicates; }, nullptr, true},
+    NodeCounterField{"mac_control_sent", "rfsitl_mac_control_frames_total", CounterKind::kCounter,
+                     "MAC control frames (ACKs) transmitted; never counted as handed in.",
+                     "ACKs sent", "ctl",
+                     [](const NodeCountersSnapshot& s) { return s.mac.control_sent; }, nullptr, true},
+    NodeCounterField{"mac_backoff_slots", "rfsitl_mac_backoff_slots_total", CounterKind::kCounter,
+                     "Backoff slots counted down (times the slot length: time spent in backoff).",
+                     "backoff slots", "backoff",
+                     [](const NodeCountersSnapshot& s) { return s.mac.backoff_slots; }, nullptr, true},
+    NodeCounterField{"mac_busy_ticks", "rfsitl_mac_busy_ticks_total", CounterKind::kCounter,
+                     "Ticks in which carrier sense found the channel busy (over "
+                     "mac_sensed_ticks: the channel-busy fraction).",
+                     "busy ticks", "busy",
+                     [](const NodeCountersSnapshot& s) { return s.mac.busy_ticks; }, nullptr, true},
+    NodeCounterField{"mac_sensed_ticks", "rfsitl_mac_sensed_ticks_total", CounterKind::kCounter,
+                     "Ticks in which carrier sense looked at the channel.", "sensed ticks",
+                     "sensed", [](const NodeCountersSnapshot& s) { return s.mac.sensed_ticks; }, nullptr, true},
 };
 
 namespace detail {

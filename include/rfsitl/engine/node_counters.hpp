@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "rfsitl/mac/mac_counters.hpp"
+
 namespace rfsitl::engine {
 
 /// Why a transmitted frame did not reach its destination.
@@ -18,8 +20,9 @@ enum class LossReason : std::uint8_t {
   kHalfDuplex,          ///< the receiver was transmitting during the frame
   kDecodeFailure,       ///< none of the above, yet the receiver did not decode it (CRC)
   kUnknownDestination,  ///< dst names no node of the scenario
+  kRetryLimit,          ///< the MAC gave up after its retry limit, and no attempt arrived
 };
-inline constexpr std::size_t kNumLossReasons = 5;
+inline constexpr std::size_t kNumLossReasons = 6;
 
 std::string_view loss_reason_name(LossReason r);
 
@@ -37,6 +40,7 @@ struct NodeCountersSnapshot {
   std::uint64_t to_agent_dropped = 0;  ///< decoded for this node but no agent connected / backlog
   std::uint64_t external_stalls = 0;   ///< round trips with the node's process that timed out
   std::uint64_t queue_depth = 0;       ///< TX queue length (the engine's; snapshot() leaves 0)
+  mac::MacCountersSnapshot mac;        ///< the node's MAC (zero for mac none)
 
   std::uint64_t lost_total() const {
     std::uint64_t s = 0;
@@ -60,6 +64,7 @@ struct NodeCounters {
   std::atomic<std::uint64_t> ip_refused{0};
   std::atomic<std::uint64_t> to_agent_dropped{0};
   std::atomic<std::uint64_t> external_stalls{0};
+  mac::MacCounters mac;
 
   static void bump(std::atomic<std::uint64_t>& c) { c.fetch_add(1, std::memory_order_relaxed); }
   NodeCountersSnapshot snapshot() const;

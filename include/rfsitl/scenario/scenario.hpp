@@ -174,6 +174,13 @@ struct ExternalConfig {
   bool restart_children = true;   ///< restart an `rfsitl node` child that dies
 };
 
+/// The MAC of every node (`mac: {type: csma, ...}`): a registered MAC
+/// (mac_registry.hpp) and its declared settings. "none" is the paper's.
+struct MacChoice {
+  std::string type = "none";
+  config::Settings settings;  ///< checked against the MAC's declarations by the reader
+};
+
 /// IP on every node (`ip:`, `rfsitl run --ip`): a network namespace per node
 /// holding a TAP interface whose Ethernet frames cross the radio channel.
 struct IpConfig {
@@ -212,6 +219,7 @@ struct Scenario {
   EngineConfig engine;
   ExternalConfig external;
   IpConfig ip;
+  MacChoice mac;
   std::vector<TrafficItem> traffic;
   /// The live source of every node without its own `source` or `mobility`.
   PositionSourceChoice position_source;
@@ -228,8 +236,9 @@ struct Scenario {
   }
   /// True when node `node`'s transceiver is another process.
   bool runs_externally(std::size_t node) const { return phy_of(node).runs_externally(); }
-  /// True when radio frames carry their kind (FrameKind) on the air: with IP.
-  bool typed_framing() const { return ip.enabled; }
+  /// True when radio frames carry their kind (FrameKind) on the air: with IP
+  /// or a MAC.
+  bool typed_framing() const { return ip.enabled || mac.type != "none"; }
 };
 
 }  // namespace rfsitl::scenario

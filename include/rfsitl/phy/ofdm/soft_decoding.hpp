@@ -42,7 +42,33 @@ class ViterbiDecoder {
                                            bool terminated) = 0;
 };
 
-/// A decoder built on libfec's viterbi27 (Debian libfec-dev).
+/// The default decoder: make_simd_viterbi_decoder(ViterbiKernel::kBest).
 std::unique_ptr<ViterbiDecoder> make_viterbi_decoder();
+
+/// Instruction sets of the built-in decoder's add-compare-select loop. All kernels
+/// compute the same exact integer recursion and return identical bits.
+enum class ViterbiKernel {
+  kBest,      ///< the fastest one this CPU supports (AVX-512BW, AVX2, SSE2, portable)
+  kPortable,  ///< plain C++, any CPU (slow: the reference for the others)
+  kSse2,      ///< any x86-64
+  kAvx2,
+  kAvx512,  ///< AVX-512F + AVX-512BW
+};
+
+/// True if this CPU (and OS) can run `kernel`; kBest and kPortable always can.
+bool viterbi_kernel_supported(ViterbiKernel kernel);
+
+/// The built-in decoder (viterbi_simd.cpp): LLRs quantized per block to 8 bits
+/// (the mean finite nonzero |LLR| maps to 40, clipped at 127; infinities to
+/// +-127, NaN to an erasure), exact int16 path metrics, full-block traceback
+/// (it keeps 12 bytes per data bit of the longest block it has decoded).
+/// Throws std::invalid_argument if `kernel` is not supported here.
+std::unique_ptr<ViterbiDecoder> make_simd_viterbi_decoder(
+    ViterbiKernel kernel = ViterbiKernel::kBest);
+
+/// A decoder built on libfec's viterbi27 (Debian libfec-dev, portable C; 12 to 14
+/// times slower than the AVX2 / AVX-512 kernels): the independent reference the
+/// built-in decoder is tested against.
+std::unique_ptr<ViterbiDecoder> make_libfec_viterbi_decoder();
 
 }  // namespace rfsitl::phy::ofdm
