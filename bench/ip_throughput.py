@@ -82,8 +82,13 @@ def iperf(prefix, seconds, udp_kbps=None):
             end = json.loads(run.stdout)["end"]
         except (ValueError, KeyError):
             return None
-        key = "sum" if udp_kbps else "sum_received"
-        return end[key]["bits_per_second"] / 1e3
+        if not udp_kbps:
+            return end["sum_received"]["bits_per_second"] / 1e3
+        # UDP: iperf3 3.12 reports the receiver's side as sum_received; older
+        # ones only the sender's rate and the receiver's loss in `sum`.
+        if "sum_received" in end:
+            return end["sum_received"]["bits_per_second"] / 1e3
+        return end["sum"]["bits_per_second"] * (1 - end["sum"]["lost_percent"] / 100) / 1e3
     finally:
         server.kill()
         server.wait()

@@ -7,7 +7,8 @@
 ///
 ///   rfsitl_mac_saturation [--nodes 2,4,8,16] [--seconds 20] [--payload 500] [--csv FILE]
 ///   /usr/bin/python3 scripts/plot_mac_saturation.py FILE -o PNG
-///   rfsitl_mac_saturation --bounds [--phy ofdm --rate-mbps 24] [--sample-rate 2e6] [--payload 1514]
+///   rfsitl_mac_saturation --bounds [--phy ofdm --rate-mbps 24] [--sample-rate 2e6] [--payload
+///   1514]
 ///
 /// --bounds only prints, as CSV, two ceilings for one sender of `payload`-byte
 /// frames (bench/ip_throughput.py puts them beside iperf3): the air time
@@ -56,7 +57,7 @@ struct NullSink : engine::FrameSink {
   void deliver(std::size_t, NetFrame&&) override {}
 };
 
-double g_fs = 1e6;  // the runs use 1 Msps; --bounds may set another rate
+double g_fs = 1e6;                    // the runs use 1 Msps; --bounds may set another rate
 constexpr std::uint32_t kTick = 250;  // the scenario default
 
 struct Result {
@@ -80,8 +81,11 @@ scenario::Scenario saturated(const std::string& mac, std::size_t senders, double
   s.mac.type = mac;
   s.mac.settings = mac::find_mac(mac)->info.defaults();
   if (mac == "tdma") {
-    // One slot holds one frame and its guard: TDMA's best case.
+    // One slot holds one frame and its guard, and there are as many slots as
+    // senders (the sink, node index 0, shares slot 0 with the last sender and
+    // never sends): TDMA's best case.
     s.mac.settings.set("slot_ms", std::ceil((frame_s * 1e3 + 0.5) * 4.0) / 4.0);
+    s.mac.settings.set("slots", std::uint64_t{senders});
   }
   scenario::NodeConfig sink;
   sink.id = 1;
@@ -119,8 +123,9 @@ Result run(const scenario::Scenario& s, std::size_t payload) {
     const auto c = e->counters(i).snapshot();
     delivered += c.delivered;
     r.transmissions += c.transmitted;
-    collided += s.mac.type == "csma" ? c.mac.ack_timeouts
-                                     : c.lost[static_cast<std::size_t>(engine::LossReason::kCollision)];
+    collided += s.mac.type == "csma"
+                    ? c.mac.ack_timeouts
+                    : c.lost[static_cast<std::size_t>(engine::LossReason::kCollision)];
     const std::uint64_t finished = c.delivered + c.lost_total();
     if (finished > 0) service_sum += s.timing.duration_s * 1e3 / static_cast<double>(finished);
   }
@@ -155,8 +160,8 @@ Bianchi bianchi(std::size_t n, std::size_t payload, const phy::Transceiver& radi
   const std::size_t data = radio.frame_samples(1 + 2 + payload);  // kind, sequence, payload
   const std::size_t ack = radio.frame_samples(1 + 3);
   const std::size_t lat = radio.rx_latency_samples();
-  const double t_s = static_cast<double>((data - 1 + lat) / kTick + sifs + (ack + kTick - 1) / kTick +
-                                         difs);
+  const double t_s =
+      static_cast<double>((data - 1 + lat) / kTick + sifs + (ack + kTick - 1) / kTick + difs);
   const double t_c = static_cast<double>((data + kTick - 1) / kTick + difs);
   const auto tau_of = [&](double p) {
     double num = 0.0;
@@ -180,12 +185,12 @@ Bianchi bianchi(std::size_t n, std::size_t payload, const phy::Transceiver& radi
   b.p = (lo + hi) / 2.0;
   b.tau = tau_of(b.p);
   const double p_tr = 1.0 - std::pow(1.0 - b.tau, static_cast<double>(n));
-  const double p_s = static_cast<double>(n) * b.tau *
-                     std::pow(1.0 - b.tau, static_cast<double>(n - 1)) / p_tr;
+  const double p_s =
+      static_cast<double>(n) * b.tau * std::pow(1.0 - b.tau, static_cast<double>(n - 1)) / p_tr;
   const double tick_s = kTick / g_fs;
-  const double mean_slot_s = ((1.0 - p_tr) * static_cast<double>(slot) + p_tr * p_s * t_s +
-                              p_tr * (1.0 - p_s) * t_c) *
-                             tick_s;
+  const double mean_slot_s =
+      ((1.0 - p_tr) * static_cast<double>(slot) + p_tr * p_s * t_s + p_tr * (1.0 - p_s) * t_c) *
+      tick_s;
   b.goodput_kbps = p_s * p_tr * static_cast<double>(payload * 8) / mean_slot_s / 1e3;
   return b;
 }
@@ -225,11 +230,13 @@ int main(int argc, char** argv) {
   const auto radio = phy::make_transceiver("gmsk");
   const double frame_s = static_cast<double>(radio->frame_samples(1 + 2 + payload)) / g_fs;
   const double air_kbps = static_cast<double>(payload * 8) / frame_s / 1e3;
-  std::printf("GMSK at %.0f Msps, %zu-byte payloads: %.2f ms on the air, %.1f kbit/s if back to "
-              "back; %g virtual seconds per run\n\n",
-              g_fs / 1e6, payload, frame_s * 1e3, air_kbps, seconds);
-  std::printf("| N | none kbit/s | none coll. | tdma kbit/s | csma kbit/s | Bianchi S | S err | "
-              "csma p | Bianchi p | p err | csma service ms |\n");
+  std::printf(
+      "GMSK at %.0f Msps, %zu-byte payloads: %.2f ms on the air, %.1f kbit/s if back to "
+      "back; %g virtual seconds per run\n\n",
+      g_fs / 1e6, payload, frame_s * 1e3, air_kbps, seconds);
+  std::printf(
+      "| N | none kbit/s | none coll. | tdma kbit/s | csma kbit/s | Bianchi S | S err | "
+      "csma p | Bianchi p | p err | csma service ms |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   std::ofstream out;
   if (!csv.empty()) {
@@ -242,16 +249,16 @@ int main(int argc, char** argv) {
     const Result tdma = run(saturated("tdma", n, seconds, payload, frame_s), payload);
     const Result csma = run(saturated("csma", n, seconds, payload, frame_s), payload);
     const Bianchi b = bianchi(n, payload, *radio);
-    std::printf("| %zu | %.1f | %.2f | %.1f | %.1f | %.1f | %+.1f %% | %.3f | %.3f | %+.1f %% | %.1f |\n",
-                n, none.goodput_kbps, none.collided, tdma.goodput_kbps, csma.goodput_kbps,
-                b.goodput_kbps, 100.0 * (csma.goodput_kbps / b.goodput_kbps - 1.0), csma.collided,
-                b.p, 100.0 * (csma.collided / b.p - 1.0), csma.service_ms);
+    std::printf(
+        "| %zu | %.1f | %.2f | %.1f | %.1f | %.1f | %+.1f %% | %.3f | %.3f | %+.1f %% | %.1f |\n",
+        n, none.goodput_kbps, none.collided, tdma.goodput_kbps, csma.goodput_kbps, b.goodput_kbps,
+        100.0 * (csma.goodput_kbps / b.goodput_kbps - 1.0), csma.collided, b.p,
+        100.0 * (csma.collided / b.p - 1.0), csma.service_ms);
     std::fflush(stdout);
     if (out) {
       out << n << ',' << none.goodput_kbps << ',' << none.collided << ',' << tdma.goodput_kbps
-          << ',' << csma.goodput_kbps << ',' << b.goodput_kbps << ',' << csma.collided << ','
-          << b.p << ',' << csma.service_ms << ',' << none.service_ms << ',' << tdma.service_ms
-          << '\n';
+          << ',' << csma.goodput_kbps << ',' << b.goodput_kbps << ',' << csma.collided << ',' << b.p
+          << ',' << csma.service_ms << ',' << none.service_ms << ',' << tdma.service_ms << '\n';
     }
   }
   return 0;

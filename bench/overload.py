@@ -55,7 +55,7 @@ from ws_client import WsClient  # noqa: E402 (after the path)
 
 TERMINATOR = b"\r\r\n\n"
 LOSS_REASONS = ("below_sensitivity", "collision", "half_duplex", "decode_failure",
-                "unknown_destination")
+                "unknown_destination", "retry_limit")
 KIB = 1024
 MIB = 1024 * 1024
 SOURCE_DIR = os.environ.get("RFSITL_SOURCE_DIR",

@@ -8,7 +8,7 @@
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
 # Stages (STAGES="fig4 fig5 capacity capacity_fading virtual mobility mix stage_cost dashboard
-# overload fading_per" by default; any subset):
+# overload fading_per mac" by default, and ip; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
@@ -34,6 +34,11 @@
 #             SNR 0..30 dB, FADING_FRAMES frames per point (rfsitl_fading_per; 160 s of CPU at
 #             20000, run on both cores); CSV, PNG and log in OUT/fading_per/ (fails the stage,
 #             not the run, when a gap exceeds 1 dB)
+#   mac       the MACs under saturation (N = 2, 4, 8, 16 senders to one sink; none, tdma,
+#             csma) beside Bianchi's model, MAC_SECONDS virtual seconds per run
+#             (rfsitl_mac_saturation); table, CSV and PNG in OUT/mac/
+#   ip        iperf3 TCP and UDP between two IP nodes per PHY and MAC beside the air-time and
+#             csma bounds (bench/ip_throughput.py; root, iperf3); not in the default list
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
 #   CAPF_NODES="32 48 64"
@@ -49,11 +54,11 @@ T_START=$(date +%s)
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
   D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAPF="16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
-  D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15 D_FADING=2000
+  D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15 D_FADING=2000 D_MAC_S=10
 else
   D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAPF="32 48 64"
   D_CAP_S=60
-  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000
+  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000 D_MAC_S=60
 fi
 OUT="${OUT:-out/bench}"
 COUNT="${COUNT:-$D_COUNT}"
@@ -67,11 +72,12 @@ MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
 MOB_NODES="${MOB_NODES:-64}"
 MOB_SECONDS="${MOB_SECONDS:-$D_MOB_S}"  # virtual seconds at 10 ms, at 1 ms
 PORT_BASE="${PORT_BASE:-20000}"
-STAGES="${STAGES-fig4 fig5 capacity capacity_fading virtual mobility mix stage_cost dashboard overload fading_per}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity capacity_fading virtual mobility mix stage_cost dashboard overload fading_per mac}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 OVL_SECONDS="${OVL_SECONDS:-$D_OVL_S}"
 FADING_FRAMES="${FADING_FRAMES:-$D_FADING}"
+MAC_SECONDS="${MAC_SECONDS:-$D_MAC_S}"
 # Architectures of the Fig. 4 CDF. Each name A needs a function fig4_start_A LOG JSON
 # that starts that architecture's emulator with 6 nodes via start_emulator (below) or
 # its own launcher that sets EMU_PID and NET_BASE the same way:
@@ -370,6 +376,25 @@ if stage fading_per; then
   "$PY" scripts/plot_fading_per.py "$OUT/fading_per/fading_per.csv" \
     -o "$OUT/fading_per/fading_per.png" || echo "bench: fading_per: plot failed"
   mark fading_per
+fi
+
+if stage mac; then
+  echo "== MACs under saturation beside Bianchi's model: $MAC_SECONDS virtual s per run"
+  mkdir -p "$OUT/mac"
+  "$BENCH"/rfsitl_mac_saturation --seconds "$MAC_SECONDS" --csv "$OUT/mac/mac_saturation.csv" |
+    tee "$OUT/mac/mac_saturation.log"
+  "$PY" scripts/plot_mac_saturation.py "$OUT/mac/mac_saturation.csv" \
+    -o "$OUT/mac/mac_saturation.png" || echo "bench: mac: plot failed"
+  mark mac
+fi
+
+if stage ip; then
+  echo "== IP throughput: iperf3 TCP and UDP between two IP nodes, per PHY and MAC"
+  mkdir -p "$OUT/ip"
+  "$PY" bench/ip_throughput.py --bin "$BIN" --bench-dir "$BENCH" \
+    --csv "$OUT/ip/ip_throughput.csv" | tee "$OUT/ip/ip_throughput.log" ||
+    echo "bench: ip: failed (needs root and iperf3)"
+  mark ip
 fi
 
 # --- report -----------------------------------------------------------------------

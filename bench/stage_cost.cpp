@@ -17,7 +17,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -59,11 +61,34 @@ const Case kCases[] = {
     {"multipath", "taps (4)",
      "    - {type: multipath, profile: taps, taps: [{delay_ns: 0, gain_db: 0}, {delay_ns: 100, "
      "gain_db: -3}, {delay_ns: 200, gain_db: -6}, {delay_ns: 300, gain_db: -9}]}\n"},
+    // The file is written by trace_file() for the run's node count.
+    {"trace", "csv, 11 points per link", "    - {type: trace, file: TRACE_FILE, loop: true}\n"},
     {"delay + multipath + fading", "taps (4), rician",
      "    - {type: delay}\n    - {type: multipath, profile: taps, taps: [{delay_ns: 0, gain_db: "
      "0}, {delay_ns: 100, gain_db: -3}, {delay_ns: 200, gain_db: -6}, {delay_ns: 300, gain_db: "
      "-9}]}\n    - {type: fading, model: rician, k_db: 6}\n"},
 };
+
+/// A CSV trace for nodes 1..n (the default formation's ids): every pair's
+/// gain and phase at 11 points over one second (the stage loops it and
+/// applies each row to both directions), in the system's temporary folder.
+std::string trace_file(std::size_t nodes) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("rfsitl_stage_cost_trace_" + std::to_string(nodes) + ".csv");
+  std::ofstream out(path);
+  out << "t_s,tx,rx,gain_db,phase_deg\n";
+  for (std::size_t a = 1; a <= nodes; ++a) {
+    for (std::size_t b = a + 1; b <= nodes; ++b) {
+      for (int k = 0; k <= 10; ++k) {
+        out << 0.1 * k << ',' << a << ',' << b << ','
+            << -60.0 - static_cast<double>((a + b + k) % 10) << ','
+            << static_cast<double>((37 * (a + k) + b) % 360) << '\n';
+      }
+    }
+  }
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+  return path.string();
+}
 
 scenario::Scenario scenario_of(const Case& c, std::size_t nodes) {
   std::string yaml = "name: stage-cost\n";
@@ -75,7 +100,11 @@ scenario::Scenario scenario_of(const Case& c, std::size_t nodes) {
     if (std::string(c.stage) != "path_loss" || std::string(c.model) == "free_space") {
       yaml += "    - {type: path_loss, model: free_space}\n";
     }
-    yaml += c.yaml;
+    std::string stages = c.yaml;
+    if (const auto at = stages.find("TRACE_FILE"); at != std::string::npos) {
+      stages.replace(at, 10, trace_file(nodes));
+    }
+    yaml += stages;
   }
   yaml += "nodes: " + std::to_string(nodes) + "\n";
   return scenario::parse_scenario(yaml, "stage_cost");

@@ -83,6 +83,13 @@ w('wire_protocol', 'm4_welcome_raw', bytes([4]) + header(2, extra=len(wel)) + we
 rec = struct.pack('<IBBBBffII', 42, 1, 2, 1, 1, -30.0, -25.0, 3, 2) + b'abc' + struct.pack('<4f', 1, 0, 0, 1)
 w('wire_protocol', 'm5_rx_result', bytes([5, 1]) + rec + rec)
 w('wire_protocol', 'm6_tx', bytes([6, 1]) + struct.pack('<8f', *([0.5] * 8)))
+disc_req = json.dumps({"discovery": 1, "program": "soapy find"}).encode()
+disc = json.dumps({"discovery": 1, "nodes": [
+    {"node_id": 3, "label": "a node 3", "role": "samples", "sample_rate_hz": 1e6,
+     "tick_samples": 250, "carrier_hz": 2.4e9, "time_mode": "realtime", "claimed": False}]}).encode()
+w('wire_protocol', 'm7_discover', bytes([7, 0]) + disc_req)
+w('wire_protocol', 'm7_discovery_answer', bytes([7, 1]) + disc)
+w('wire_protocol', 'm2_discover_raw', bytes([2]) + header(9, extra=len(disc_req)) + disc_req)
 
 # dashboard_http: requests as a browser, curl or a script sends them
 w('dashboard_http', 'get_index', 'GET / HTTP/1.1\r\nHost: 127.0.0.1:15700\r\n\r\n')

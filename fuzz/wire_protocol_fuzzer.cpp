@@ -26,6 +26,13 @@
 ///     decode it reports must lie inside that extra.
 ///  6  kTx decoding: the proxy receives a kTx with the rest as samples; it
 ///     returns at most the tick's samples and fills the rest with zeros.
+///  7  discovery (byte 1 even): kDiscover + the rest as its JSON to the hub of
+///     mode 1, which must answer kDiscovery listing its two nodes or kReject
+///     (non-empty reason); (byte 1 odd): discover() against the stand-in
+///     emulator answering kDiscovery + the rest, which must return nodes that
+///     read_discovery() checked or throw std::runtime_error naming the socket.
+/// (Modes 1 and 2 accept a kDiscovery answer too: a raw datagram may be a
+/// well-formed discovery request.)
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
@@ -140,6 +147,16 @@ void hello(const std::vector<std::uint8_t>& datagram) {
     FUZZ_CHECK(!reply.extra.empty(), "reject without a reason");
     return;
   }
+  if (reply.type() == MsgType::kDiscovery) {
+    try {
+      const auto nodes = read_discovery(reply.extra_text());
+      FUZZ_CHECK(nodes.size() == 2 && nodes[0].node_id == 3 && nodes[1].node_id == 7,
+                 "discovery lists %zu nodes", nodes.size());
+    } catch (const HandshakeError& e) {
+      FUZZ_CHECK(false, "hub's own discovery answer does not read: %s", e.what());
+    }
+    return;
+  }
   FUZZ_CHECK(reply.type() == MsgType::kWelcome, "hub answered type %u", reply.header.type);
   const auto j = nlohmann::json::parse(reply.extra_text(), nullptr, false);
   FUZZ_CHECK(j.is_object() && j.value("protocol", 0) == kProtocolVersion, "bad welcome %s",
@@ -196,8 +213,14 @@ class StandInEmulator {
   std::vector<std::uint8_t> answer_;
 };
 
+/// The one stand-in (it owns the "emu" socket path), for modes 3, 4 and 7.
+StandInEmulator& stand_in() {
+  static StandInEmulator* emu = new StandInEmulator;  // lives until exit
+  return *emu;
+}
+
 void welcome(std::vector<std::uint8_t> answer) {
-  static StandInEmulator* emu = new StandInEmulator;
+  StandInEmulator* emu = &stand_in();
   emu->set_answer(std::move(answer));
   ExternalClient::Settings s;
   s.socket_path = emu->path();
@@ -216,6 +239,22 @@ void welcome(std::vector<std::uint8_t> answer) {
     }
   } catch (const std::runtime_error& e) {
     FUZZ_CHECK(std::string(e.what()).find(s.socket_path) != std::string::npos,
+               "error does not name the socket: %s", e.what());
+  }
+}
+
+/// The stand-in's answer read by discover() (the SoapySDR module's find).
+void discovery_answer(std::vector<std::uint8_t> answer) {
+  StandInEmulator* emu = &stand_in();
+  emu->set_answer(std::move(answer));
+  try {
+    for (const auto& n : discover(emu->path(), kReplyTimeoutMs, "fuzz")) {
+      FUZZ_CHECK(n.node_id >= kMinNodeId && n.node_id <= kMaxNodeId && n.sample_rate_hz > 0.0 &&
+                     n.tick_samples >= 1 && n.tick_samples <= kMaxExternalTickSamples,
+                 "discovery accepted node %u", unsigned{n.node_id});
+    }
+  } catch (const std::runtime_error& e) {
+    FUZZ_CHECK(std::string(e.what()).find(emu->path()) != std::string::npos,
                "error does not name the socket: %s", e.what());
   }
 }
@@ -299,7 +338,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
-  const int mode = data[0] % 7;
+  const int mode = data[0] % 8;
   ++data;
   --size;
   switch (mode) {
@@ -327,6 +366,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       break;
     case 6:
       proxy_reply(false, data, size);
+      break;
+    case 7:
+      if (size == 0) return 0;
+      if (data[0] % 2 == 0) {
+        hello(framed(MsgType::kDiscover, 0, 0, data + 1, size - 1));
+      } else {
+        discovery_answer(framed(MsgType::kDiscovery, 0, 0, data + 1, size - 1));
+      }
       break;
   }
   return 0;

@@ -58,6 +58,7 @@ def read_cmake_graph(root):
     """{module: set of modules it links}, from every CMakeLists.txt under src/ and apps/."""
     target_module = {}
     links = {}
+    compiled_in = {}
     phy_components = set()
     for top in ("src", "apps"):
         for dirpath, _, files in os.walk(os.path.join(root, top)):
@@ -84,12 +85,19 @@ def read_cmake_graph(root):
                     else:
                         module = name[len("rfsitl_"):]
                     target_module[name] = module
+                    # A target that compiles another module's sources (the
+                    # SoapySDR module builds the external client's, as
+                    # position-independent code) depends on that module.
+                    for other in re.findall(r"/src/([a-z_]+)/[^/\s]+\.cpp", args):
+                        compiled_in.setdefault(module, set()).add(other)
                 else:
                     deps = links.setdefault(name, set())
                     for w in words[1:]:
                         if w.startswith("rfsitl_") or w == "${RFSITL_PHY_COMPONENT_LIBRARIES}":
                             deps.add(w)
     graph = {m: set() for m in target_module.values()}
+    for m, others in compiled_in.items():
+        graph[m] |= {o for o in others if o in graph and o != m}
     for target, deps in links.items():
         if target not in target_module:
             continue

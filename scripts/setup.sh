@@ -17,6 +17,10 @@ PACKAGES=(
   chromium nodejs
   # IP on every node (--ip): namespaces (iproute2) and the stock tools the tests run in them
   iproute2 iputils-ping babeld
+  # bench/ip_throughput.py: TCP and UDP goodput between two IP nodes
+  iperf3
+  # the SoapySDR module (driver=rfsitl, src/soapy/) and its test: headers, SoapySDRUtil, python
+  libsoapysdr-dev soapysdr-tools python3-soapysdr
 )
 # Debian packages npm separately from nodejs; other nodejs builds bring their own.
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)

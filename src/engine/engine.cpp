@@ -17,10 +17,10 @@
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/common/spsc_ring.hpp"
+#include "rfsitl/common/xoshiro256.hpp"
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/engine/tick_clock.hpp"
 #include "rfsitl/engine/traffic_schedule.hpp"
-#include "rfsitl/common/xoshiro256.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
@@ -69,11 +69,11 @@ struct Node : phy::RxHandler, mac::FrameQueue {
   std::optional<PendingVerdict> verdict;
   bool started_awaits_verdict = false;  // the frame started this tick awaits one
   bool started_first_attempt = true;    // ... and is not a repeat
-  std::vector<cf32> tx;                          // this tick's TX samples
-  std::vector<cf32> rx;                          // this tick's RX samples
-  bool active = false;                           // tx carries signal this tick
-  std::size_t tx_samples = 0;                    // leading samples of tx that carry signal
-  bool receiver_blanked = false;                 // T/R switch on transmit since last tick
+  std::vector<cf32> tx;                 // this tick's TX samples
+  std::vector<cf32> rx;                 // this tick's RX samples
+  bool active = false;                  // tx carries signal this tick
+  std::size_t tx_samples = 0;           // leading samples of tx that carry signal
+  bool receiver_blanked = false;        // T/R switch on transmit since last tick
   std::uint32_t frames_started = 0;
   // Set by the TX phase when a frame starts this tick; consumed serially.
   std::optional<std::pair<std::uint32_t, NetFrame>> started;
@@ -489,13 +489,15 @@ class LockStepEngine final : public Engine {
     // Sender index in the top byte; the count from 1, so that 0 never names a frame.
     const std::uint32_t serial =
         (static_cast<std::uint32_t>(node.index) << 24) | (node.frames_started++ % 0xFFFFFFU + 1U);
-    NetFrame frame = send.frame != nullptr
-                         ? *send.frame
-                         : NetFrame{node.id, send.dst, {send.header.begin(), send.header.end()},
-                                    FrameKind::kMacControl};
+    NetFrame frame = send.frame != nullptr ? *send.frame
+                                           : NetFrame{node.id,
+                                                      send.dst,
+                                                      {send.header.begin(), send.header.end()},
+                                                      FrameKind::kMacControl};
     std::span<const std::uint8_t> on_air = frame.payload;
     if (typed_) {
-      on_air = with_kind(frame.kind, send.frame != nullptr ? send.header : std::span<const std::uint8_t>{},
+      on_air = with_kind(frame.kind,
+                         send.frame != nullptr ? send.header : std::span<const std::uint8_t>{},
                          on_air, node.typed_payload);
     }
     node.started_len = node.radio->start_frame(phy::FrameTag{frame.src, frame.dst, serial}, on_air);
@@ -532,8 +534,8 @@ class LockStepEngine final : public Engine {
                                node.started_awaits_verdict ? node.mac_frame : 0);
         }
         const TxRole role = frame.kind == FrameKind::kMacControl ? TxRole::kControl
-                            : node.started_first_attempt               ? TxRole::kFirst
-                                                                       : TxRole::kRepeat;
+                            : node.started_first_attempt         ? TxRole::kFirst
+                                                                 : TxRole::kRepeat;
         reporter_.transmitted(i, serial, frame, now_, node.started_len, role);
         node.started.reset();
       } else if (node.active && now_ >= node.frame_end) {

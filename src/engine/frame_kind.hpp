@@ -18,8 +18,7 @@ inline constexpr std::size_t kKindBytes = 1;
 
 /// The bytes that go on the air: `kind`, the MAC `header`, then `payload`,
 /// kept in `buffer` (reused from frame to frame).
-inline std::span<const std::uint8_t> with_kind(FrameKind kind,
-                                               std::span<const std::uint8_t> header,
+inline std::span<const std::uint8_t> with_kind(FrameKind kind, std::span<const std::uint8_t> header,
                                                std::span<const std::uint8_t> payload,
                                                std::vector<std::uint8_t>& buffer) {
   buffer.resize(kKindBytes + header.size() + payload.size());

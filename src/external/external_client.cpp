@@ -4,6 +4,38 @@
 
 namespace rfsitl::external {
 
+std::vector<DiscoveredNode> discover(const std::string& socket_path, int timeout_ms,
+                                     const std::string& program) {
+  MessageChannel channel = MessageChannel::connect_to(socket_path);
+  const std::string text = discovery_request_json({program});
+  MsgHeader h;
+  h.type = static_cast<std::uint16_t>(MsgType::kDiscover);
+  const std::string where = "emulator socket " + socket_path + ": discovery ";
+  if (!channel.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()})) {
+    throw std::runtime_error(where + "request failed: connection closed");
+  }
+  Message answer;
+  const RecvStatus st = channel.receive(answer, timeout_ms);
+  if (st != RecvStatus::kOk) {
+    throw std::runtime_error(where + (st == RecvStatus::kTimeout ? "got no answer within timeout"
+                                                                 : "failed: connection closed"));
+  }
+  if (answer.type() == MsgType::kReject) {
+    throw std::runtime_error(where + "refused: " + answer.extra_text());
+  }
+  if (answer.type() != MsgType::kDiscovery) {
+    // An emulator older than discovery answers a kDiscover with kReject
+    // ("expected a hello message"), so this is a protocol slip.
+    throw std::runtime_error(where + "expected a discovery answer, got " +
+                             message_type_name(answer.header.type));
+  }
+  try {
+    return read_discovery(answer.extra_text());
+  } catch (const HandshakeError& e) {
+    throw std::runtime_error(where + "bad answer: " + e.what());
+  }
+}
+
 const Welcome& ExternalClient::connect() {
   channel_ = MessageChannel::connect_to(settings_.socket_path);
   // have_tick_ survives a reconnection: the first tick after rejoining is

@@ -232,8 +232,8 @@ class Hub final : public ExternalHub {
   }
 
   // A waiting connection became readable: its hello (admitted or refused), a
-  // hang-up, or anything else (refused). Returns false when nothing was there
-  // after all, so that it keeps waiting.
+  // discovery request (answered), a hang-up, or anything else (refused). Returns false when nothing
+  // was there after all, so that it keeps waiting.
   bool settle(MessageChannel& ch) {
     Message hello;
     const RecvStatus st = ch.receive(hello, 0);
@@ -242,6 +242,8 @@ class Hub final : public ExternalHub {
     if (st == RecvStatus::kClosed) return true;
     if (st == RecvStatus::kMalformed) {
       reject(ch, "expected a hello message, got a malformed message");
+    } else if (hello.type() == MsgType::kDiscover) {
+      answer_discovery(ch, hello);
     } else if (hello.type() != MsgType::kHello) {
       reject(ch,
              std::string("expected a hello message, got ") + message_type_name(hello.header.type));
@@ -279,6 +281,27 @@ class Hub final : public ExternalHub {
     h.type = static_cast<std::uint16_t>(MsgType::kWelcome);
     if (!ch.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()})) return;
     links_.at(spec.index)->offer(std::move(ch), std::move(hello.program));
+  }
+
+  // Lists the external nodes and closes (the caller drops `ch`): nothing is
+  // claimed, so a SoapySDR find or a dashboard can ask as often as it likes.
+  void answer_discovery(MessageChannel& ch, const Message& message) {
+    try {
+      read_discovery_request(message.extra_text());
+    } catch (const HandshakeError& e) {
+      return reject(ch, std::string("bad discovery request JSON: ") + e.what());
+    }
+    std::vector<DiscoveredNode> nodes;
+    for (const auto& [id, spec] : specs_) {
+      nodes.push_back({id, settings_.scenario_name + " node " + std::to_string(id),
+                       role_name(spec.role), settings_.sample_rate_hz, settings_.tick_samples,
+                       settings_.carrier_hz, settings_.virtual_time,
+                       links_.at(spec.index)->claimed()});
+    }
+    const std::string text = discovery_json(nodes);
+    MsgHeader h;
+    h.type = static_cast<std::uint16_t>(MsgType::kDiscovery);
+    ch.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
   }
 
   /// A connection that has not said hello yet, and when it must have.

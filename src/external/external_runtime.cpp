@@ -29,6 +29,9 @@ ExternalRuntime::ExternalRuntime(const scenario::Scenario& s) : scenario_(s) {
   hs.sample_rate_hz = s.timing.sample_rate_hz;
   hs.tick_samples = s.timing.tick_samples;
   hs.virtual_time = s.timing.mode == scenario::TimeMode::kVirtual;
+  hs.scenario_name = s.name;
+  // The channel's own default when the scenario has no radio: section.
+  hs.carrier_hz = s.radio.value_or(channel::RadioSettings{}).carrier_hz;
   hub_ = make_external_hub(hs, specs_);
 }
 

@@ -71,6 +71,41 @@ NodeId node_id_of(const Json& j) {
   return static_cast<NodeId>(integer_in(j, "node_id", kMinNodeId, kMaxNodeId));
 }
 
+double positive_finite(const Json& j, std::string_view key) {
+  const Json& v = field(j, key);
+  if (!v.is_number() || !(v.get<double>() > 0.0) || !std::isfinite(v.get<double>())) {
+    throw HandshakeError(std::string(key) + ": expected a finite number > 0, got " + shown(v));
+  }
+  return v.get<double>();
+}
+
+std::uint32_t tick_samples_of(const Json& j) {
+  return static_cast<std::uint32_t>(integer_in(j, "tick_samples", 1, kMaxExternalTickSamples));
+}
+
+/// true for "virtual", false for "realtime".
+bool virtual_time_of(const Json& j) {
+  const std::string mode = text_of(j, "time_mode");
+  if (mode != "virtual" && mode != "realtime") {
+    throw HandshakeError("time_mode: expected \"realtime\" or \"virtual\", got " +
+                         shown(field(j, "time_mode")));
+  }
+  return mode == "virtual";
+}
+
+const char* time_mode_name(bool virtual_time) {
+  return virtual_time ? "virtual" : "realtime";
+}
+
+/// Checks that `key` is the number `version` (compared as a number: any other
+/// value, integral or not, is another protocol).
+void check_version(const Json& j, std::string_view key, int version) {
+  if (const Json& p = field(j, key); !p.is_number() || p.get<double>() != version) {
+    throw HandshakeError(std::string(key) + " " + shown(p) + ", this program speaks " +
+                         std::to_string(version));
+  }
+}
+
 }  // namespace
 
 std::string hello_json(const Hello& hello) {
@@ -92,38 +127,79 @@ std::string welcome_json(const Welcome& welcome) {
             {"node_id", welcome.node_id},
             {"sample_rate_hz", welcome.sample_rate_hz},
             {"tick_samples", welcome.tick_samples},
-            {"time_mode", welcome.virtual_time ? "virtual" : "realtime"}};
+            {"time_mode", time_mode_name(welcome.virtual_time)}};
   if (!welcome.phy_json.empty()) j["phy"] = Json::parse(welcome.phy_json);
   return j.dump();
 }
 
 Welcome read_welcome(const std::string& text) {
   const Json j = parse_object(text);
-  // Compared as a number: any other value, integral or not, is another protocol.
-  if (const Json& p = field(j, "protocol"); !p.is_number() || p.get<double>() != kProtocolVersion) {
-    throw HandshakeError("protocol " + shown(p) + ", this program speaks " +
-                         std::to_string(kProtocolVersion));
-  }
+  check_version(j, "protocol", kProtocolVersion);
   Welcome w;
   w.node_id = node_id_of(j);
-  const Json& rate = field(j, "sample_rate_hz");
-  if (!rate.is_number() || !(rate.get<double>() > 0.0) || !std::isfinite(rate.get<double>())) {
-    throw HandshakeError("sample_rate_hz: expected a finite number > 0, got " + shown(rate));
-  }
-  w.sample_rate_hz = rate.get<double>();
-  w.tick_samples =
-      static_cast<std::uint32_t>(integer_in(j, "tick_samples", 1, kMaxExternalTickSamples));
-  const std::string mode = text_of(j, "time_mode");
-  if (mode != "virtual" && mode != "realtime") {
-    throw HandshakeError("time_mode: expected \"realtime\" or \"virtual\", got " +
-                         shown(field(j, "time_mode")));
-  }
-  w.virtual_time = mode == "virtual";
+  w.sample_rate_hz = positive_finite(j, "sample_rate_hz");
+  w.tick_samples = tick_samples_of(j);
+  w.virtual_time = virtual_time_of(j);
   if (const auto it = j.find("phy"); it != j.end()) {
     if (!it->is_object()) throw HandshakeError("phy: expected a JSON object, got " + shown(*it));
     w.phy_json = it->dump();
   }
   return w;
+}
+
+std::string discovery_request_json(const DiscoveryRequest& request) {
+  return Json{{"discovery", kDiscoveryVersion}, {"program", request.program}}.dump(
+      -1, ' ', false, Json::error_handler_t::replace);
+}
+
+DiscoveryRequest read_discovery_request(const std::string& text) {
+  const Json j = parse_object(text);
+  check_version(j, "discovery", kDiscoveryVersion);
+  DiscoveryRequest r;
+  if (j.contains("program")) r.program = text_of(j, "program");
+  return r;
+}
+
+std::string discovery_json(const std::vector<DiscoveredNode>& nodes) {
+  Json list = Json::array();
+  for (const auto& n : nodes) {
+    list.push_back({{"node_id", n.node_id},
+                    {"label", n.label},
+                    {"role", n.role},
+                    {"sample_rate_hz", n.sample_rate_hz},
+                    {"tick_samples", n.tick_samples},
+                    {"carrier_hz", n.carrier_hz},
+                    {"time_mode", time_mode_name(n.virtual_time)},
+                    {"claimed", n.claimed}});
+  }
+  return Json{{"discovery", kDiscoveryVersion}, {"nodes", std::move(list)}}.dump(
+      -1, ' ', false, Json::error_handler_t::replace);
+}
+
+std::vector<DiscoveredNode> read_discovery(const std::string& text) {
+  const Json j = parse_object(text);
+  check_version(j, "discovery", kDiscoveryVersion);
+  const Json& list = field(j, "nodes");
+  if (!list.is_array()) throw HandshakeError("nodes: expected a JSON array, got " + shown(list));
+  std::vector<DiscoveredNode> nodes;
+  for (const Json& e : list) {
+    if (!e.is_object()) throw HandshakeError("nodes: expected objects, got " + shown(e));
+    DiscoveredNode n;
+    n.node_id = node_id_of(e);
+    n.label = text_of(e, "label");
+    n.role = text_of(e, "role");
+    n.sample_rate_hz = positive_finite(e, "sample_rate_hz");
+    n.tick_samples = tick_samples_of(e);
+    n.carrier_hz = positive_finite(e, "carrier_hz");
+    n.virtual_time = virtual_time_of(e);
+    const Json& claimed = field(e, "claimed");
+    if (!claimed.is_boolean()) {
+      throw HandshakeError("claimed: expected true or false, got " + shown(claimed));
+    }
+    n.claimed = claimed.get<bool>();
+    nodes.push_back(std::move(n));
+  }
+  return nodes;
 }
 
 }  // namespace rfsitl::external

@@ -132,6 +132,10 @@ const char* message_type_name(std::uint16_t type) {
       return "rx";
     case MsgType::kRxResult:
       return "rx-result";
+    case MsgType::kDiscover:
+      return "discover";
+    case MsgType::kDiscovery:
+      return "discovery";
   }
   return "unknown";
 }

@@ -33,6 +33,18 @@ bool NodeLink::adopt() {
   return true;
 }
 
+bool NodeLink::claimed() const {
+  // offered_ stays true after the first adoption (ever_joined() reads it), so
+  // a pending offer is the channel itself, under the mutex.
+  if (joins() > drops()) return true;
+  std::lock_guard lock(offer_mutex_);
+  if (!offered_channel_) return false;
+  // An offer whose process has gone again (a probe that opened the device and
+  // exited before the engine ran) claims nothing.
+  pollfd p{offered_channel_->fd(), POLLRDHUP, 0};
+  return ::poll(&p, 1, 0) == 0;
+}
+
 void NodeLink::drop(const std::string& why) {
   // A channel that send() or receive() already closed still counts as a drop.
   count_drop(why, false);

@@ -11,8 +11,8 @@ namespace rfsitl::mac::detail {
 /// `us` microseconds as ticks, rounded up, at least `at_least`.
 inline std::size_t ticks_of_us(double us, const MacContext& c, std::size_t at_least = 1) {
   const double samples = us * 1e-6 * c.sample_rate_hz;
-  const auto ticks = static_cast<std::size_t>(
-      std::ceil(samples / static_cast<double>(c.tick_samples) - 1e-9));
+  const auto ticks =
+      static_cast<std::size_t>(std::ceil(samples / static_cast<double>(c.tick_samples) - 1e-9));
   return std::max(ticks, at_least);
 }
 

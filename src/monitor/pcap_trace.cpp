@@ -330,7 +330,7 @@ class PcapTraceImpl final : public PcapTrace {
     // addr1 = DA, addr2 = SA, addr3 = BSSID. No FCS.
     b.u8(0x08);                   // frame control: version 0, type data, subtype 0
     b.u8(e.retry ? 0x08 : 0x00);  // flags: Retry on a MAC's repeat
-    b.u16(0);    // duration
+    b.u16(0);                     // duration
     // An Ethernet frame from an IP node keeps its own addresses and EtherType,
     // so Wireshark decodes the IP packet inside; anything else is an agent's
     // payload under the experimental EtherType.
@@ -359,8 +359,8 @@ class PcapTraceImpl final : public PcapTrace {
   }
 
   /// The packet's lengths, padding and comment, and the block's end.
-  void finish_packet(const engine::FrameEvent& e, Bytes& b, std::size_t at,
-                     std::size_t lengths_at, std::size_t packet_at) const {
+  void finish_packet(const engine::FrameEvent& e, Bytes& b, std::size_t at, std::size_t lengths_at,
+                     std::size_t packet_at) const {
     const auto packet_len = static_cast<std::uint32_t>(b.size() - packet_at);
     b.put_u32_at(lengths_at, packet_len);
     b.put_u32_at(lengths_at + 4, packet_len);

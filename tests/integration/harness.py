@@ -20,7 +20,7 @@ import time
 BIN = os.environ.get("RFSITL_BIN", "rfsitl")
 TERMINATOR = b"\r\r\n\n"
 LOSS_REASONS = ("below_sensitivity", "collision", "half_duplex", "decode_failure",
-                "unknown_destination")
+                "unknown_destination", "retry_limit")
 
 
 def ports_free(ports):

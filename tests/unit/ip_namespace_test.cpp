@@ -149,7 +149,16 @@ TEST(IpNamespace, TapIsMadeInsideWithItsMacMtuAndAddressesAndGoesAwayWithIt) {
     EXPECT_GE(tap.fd(), 0);
     EXPECT_NE(::fcntl(tap.fd(), F_GETFL) & O_NONBLOCK, 0);
 
-    const InterfaceState s = ns.run_inside([] { return read_interface("rf0"); });
+    // With accept_dad off the kernel still clears the tentative flag (0x40)
+    // from a work queue, a moment after the address was added: wait for it,
+    // up to a bound far below DAD's own second or more.
+    InterfaceState s = ns.run_inside([] { return read_interface("rf0"); });
+    const auto settled = std::chrono::steady_clock::now() + std::chrono::milliseconds(500);
+    while (s.ipv6_lines.find(" 40 00 80 ") == std::string::npos &&
+           std::chrono::steady_clock::now() < settled) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      s = ns.run_inside([] { return read_interface("rf0"); });
+    }
     ASSERT_TRUE(s.found) << "rf0 not found inside " << name;
     EXPECT_EQ(s.mac, c.mac);
     EXPECT_EQ(s.mtu, 1400);

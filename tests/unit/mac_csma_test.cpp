@@ -43,8 +43,9 @@ struct Station {
     const bool tx_busy = now < tx_end;
     auto send = mac->on_tick(now, tx_busy, queue);
     if (send) {
-      const std::size_t len = 200 + 10 * (1 + send->header.size() +
-                                          (send->frame != nullptr ? send->frame->payload.size() : 0));
+      const std::size_t len =
+          200 + 10 * (1 + send->header.size() +
+                      (send->frame != nullptr ? send->frame->payload.size() : 0));
       tx_end = now + static_cast<SampleTime>(len);
       mac->on_sent(now, tx_end);
       // The header is the MAC's buffer, valid until its next call: copied.

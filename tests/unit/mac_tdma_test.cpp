@@ -63,7 +63,7 @@ TEST(TdmaMac, SendsOnlyInItsOwnSlotAndOnlyWhatEndsBeforeTheGuard) {
   for (const SampleTime t : starts) {
     EXPECT_EQ(t % 3000, 1000) << "a start at " << t;  // one frame per slot fits
   }
-  EXPECT_EQ(starts.size(), 10U);  // one per TDMA frame
+  EXPECT_EQ(starts.size(), 10U);             // one per TDMA frame
   EXPECT_EQ(mac->max_radio_payload(), 70U);  // 200 + 10 * 70 = 900 = the slot less its guard
   EXPECT_FALSE(mac->carrier_sense_db());
 }

@@ -3,8 +3,8 @@
 // in its order, under the names users depend on.
 #include "rfsitl/engine/node_counter_fields.hpp"
 
-#include <algorithm>
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include <map>
 #include <set>
@@ -98,12 +98,8 @@ TEST(NodeCounterFields, KeysAndMetricsAreUniqueAndEveryFieldIsDescribed) {
 TEST(NodeCounterFields, DistinctValuesLandUnderTheirJsonKeys) {
   nlohmann::json want = nlohmann::json::object();
   for (const auto& [key, e] : expected_scalars()) want[key] = e.value;
-  want["lost"] = {{"below_sensitivity", 5},
-                  {"collision", 6},
-                  {"half_duplex", 7},
-                  {"decode_failure", 8},
-                  {"unknown_destination", 9},
-                  {"retry_limit", 10}};
+  want["lost"] = {{"below_sensitivity", 5}, {"collision", 6},           {"half_duplex", 7},
+                  {"decode_failure", 8},    {"unknown_destination", 9}, {"retry_limit", 10}};
   EXPECT_EQ(node_counters_json(distinct_values()), want);
 }
 
@@ -151,14 +147,14 @@ TEST(NodeCounterFields, SummaryTableHasAColumnPerFieldInOrder) {
   for (std::uint64_t v; row >> v;) values.push_back(v);
   // The columns the table has always had, then the ones added since.
   const std::vector<std::string> want_titles = {
-      "node",      "in",       "tx",      "delivered", "lost:sen", "lost:col", "lost:hd",
-      "lost:dec",  "lost:dst", "lost:retry", "q-drop", "pending", "received", "crc-fail",
-      "to-agent-drop", "frame-err", "ip-ref", "q-depth", "stalls", "retry", "ack-to", "rl-drop",
-      "dup", "ctl", "backoff", "busy", "sensed"};
+      "node",          "in",        "tx",         "delivered", "lost:sen", "lost:col", "lost:hd",
+      "lost:dec",      "lost:dst",  "lost:retry", "q-drop",    "pending",  "received", "crc-fail",
+      "to-agent-drop", "frame-err", "ip-ref",     "q-depth",   "stalls",   "retry",    "ack-to",
+      "rl-drop",       "dup",       "ctl",        "backoff",   "busy",     "sensed"};
   EXPECT_EQ(titles, want_titles);
-  const std::vector<std::uint64_t> want_values = {7,  1000, 3,  4,  5,  6,  7,  8,  9,  10, 2,
-                                                  949, 10, 11, 13, 12, 18, 16, 17, 19, 20, 21,
-                                                  22, 23,  24, 25, 26};
+  const std::vector<std::uint64_t> want_values = {7,  1000, 3,   4,  5,  6,  7,  8,  9,
+                                                  10, 2,    949, 10, 11, 13, 12, 18, 16,
+                                                  17, 19,   20,  21, 22, 23, 24, 25, 26};
   EXPECT_EQ(values, want_values);
   // Right-aligned under its title.
   EXPECT_EQ(lines[0].size(), lines[1].size());

@@ -336,8 +336,8 @@ TEST(PcapTrace, AnIpNodesEthernetFrameKeepsItsAddressesAndEtherType) {
   PcapTraceSettings s;
   s.path = dir.path("ip.pcapng");
   std::vector<std::uint8_t> frame = {0x02, 0, 0, 0, 0, 2, 0x02, 0, 0, 0, 0, 1, 0x08, 0x00};
-  const std::vector<std::uint8_t> ip = {0x45, 0x00, 0x00, 0x14, 1, 2, 3, 4, 64, 1,
-                                        0,    0,    10,   77,   0, 1, 10, 77, 0, 2};
+  const std::vector<std::uint8_t> ip = {0x45, 0x00, 0x00, 0x14, 1, 2, 3,  4,  64, 1,
+                                        0,    0,    10,   77,   0, 1, 10, 77, 0,  2};
   frame.insert(frame.end(), ip.begin(), ip.end());
   auto tx = event(FrameEventKind::kTransmitted, 100, 1, 2, 1, 0x00000005, frame);
   tx.frame_kind = FrameKind::kEthernet;

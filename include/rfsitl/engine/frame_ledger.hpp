@@ -91,7 +91,7 @@ class FrameLedger {
     SampleTime end;
     std::uint32_t decodes = 0;  // receivers addressed by this frame that decoded it
     bool settled = false;
-    bool activity = false;  // on_activity(): not a frame, never counted
+    bool activity = false;    // on_activity(): not a frame, never counted
     std::uint32_t frame = 0;  // an attempt of this MAC frame (its first serial); 0: none
   };
 

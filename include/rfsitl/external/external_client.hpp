@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "rfsitl/common/types.hpp"
 #include "rfsitl/external/handshake.hpp"
@@ -34,6 +35,13 @@ class ConnectRejected : public std::runtime_error {
  private:
   std::string reason_;
 };
+
+/// Asks the emulator listening on `socket_path` which external nodes it has
+/// (kDiscover), claiming none of them; waits up to `timeout_ms` for the
+/// answer. Throws std::runtime_error naming the socket and the reason (no
+/// emulator listening, timeout, refused, bad answer).
+std::vector<DiscoveredNode> discover(const std::string& socket_path, int timeout_ms,
+                                     const std::string& program = "external");
 
 class ExternalClient {
  public:

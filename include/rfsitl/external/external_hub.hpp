@@ -37,6 +37,9 @@ struct HubSettings {
   double sample_rate_hz = 1e6;
   std::uint32_t tick_samples = 250;
   bool virtual_time = false;
+  double carrier_hz = 2.4e9;  ///< told in discovery answers (the radio's carrier)
+  /// Discovery labels nodes "<scenario_name> node <id>".
+  std::string scenario_name = "rfsitl";
 };
 
 class ExternalHub {
@@ -51,7 +54,8 @@ class ExternalHub {
   /// Ids of the external nodes that have not connected yet, not even once.
   virtual std::vector<NodeId> never_joined() const = 0;
 
-  /// Hellos refused so far (unknown node, wrong role, bad message).
+  /// Hellos and discovery requests refused so far (unknown node, wrong role,
+  /// bad message).
   virtual std::uint64_t rejected() const = 0;
 };
 

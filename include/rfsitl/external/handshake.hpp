@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "rfsitl/common/types.hpp"
 
@@ -52,5 +53,38 @@ std::string welcome_json(const Welcome& welcome);
 /// time_mode "realtime" or "virtual", phy an object if present. Throws
 /// HandshakeError.
 Welcome read_welcome(const std::string& text);
+
+/// What a process asks when it only wants to know which nodes are there
+/// (kDiscover): nothing is claimed.
+struct DiscoveryRequest {
+  std::string program = "external";  ///< for the emulator's log: client text
+};
+
+/// One external node as kDiscovery describes it.
+struct DiscoveredNode {
+  NodeId node_id = 0;
+  std::string label;               ///< for people: "<scenario> node <id>"
+  std::string role;                ///< "samples" or "transceiver"
+  double sample_rate_hz = 0.0;     ///< fs of the node's samples
+  std::uint32_t tick_samples = 0;  ///< B
+  double carrier_hz = 0.0;         ///< the scenario's radio carrier (baseband centre)
+  bool virtual_time = false;
+  bool claimed = false;  ///< a process is connected (or about to be) as this node
+};
+
+std::string discovery_request_json(const DiscoveryRequest& request);
+
+/// Reads a discovery request: discovery kDiscoveryVersion, program a string if
+/// present. Throws HandshakeError.
+DiscoveryRequest read_discovery_request(const std::string& text);
+
+/// The kDiscovery answer (version kDiscoveryVersion) listing `nodes`.
+std::string discovery_json(const std::vector<DiscoveredNode>& nodes);
+
+/// Reads a kDiscovery answer: discovery kDiscoveryVersion, nodes an array of
+/// objects each checked like a welcome (node_id 1..254, sample_rate_hz finite
+/// > 0, tick_samples 1..kMaxExternalTickSamples, time_mode, carrier_hz finite
+/// > 0, role and label strings, claimed a boolean). Throws HandshakeError.
+std::vector<DiscoveredNode> read_discovery(const std::string& text);
 
 }  // namespace rfsitl::external

@@ -67,6 +67,10 @@ class NodeLink {
   std::uint64_t drops() const { return drops_.load(std::memory_order_relaxed); }
   std::uint64_t timeouts() const { return timeouts_.load(std::memory_order_relaxed); }
   bool ever_joined() const { return joins() > 0 || offered_.load(std::memory_order_acquire); }
+  /// A process holds the node (joins() > drops()) or has been admitted and
+  /// waits to be adopted at the next tick boundary. For discovery: a snapshot
+  /// that may be stale by the time anyone reads it.
+  bool claimed() const;
 
  private:
   // Closes the connection, counts the drop and logs it; `replaced`: a new
@@ -81,7 +85,7 @@ class NodeLink {
   std::uint32_t watch_calls_ = 0;                        // engine side only
   std::atomic<std::uint64_t>* stall_counter_ = nullptr;  // engine side only
 
-  std::mutex offer_mutex_;
+  mutable std::mutex offer_mutex_;
   std::optional<MessageChannel> offered_channel_;
   std::string offered_program_;
   std::atomic<bool> offered_{false};

@@ -33,6 +33,15 @@
 ///   kFlagRxBusy, extra = a sequence of DecodeRecord, payload bytes, then
 ///   symbol_count cf32 constellation points}.
 ///
+/// Discovery (any time, claims nothing): a process sends kDiscover (extra =
+/// JSON {"discovery": 1, "program": "..."}) instead of a hello; the emulator
+/// answers kDiscovery (extra = JSON {"discovery": 1, "nodes": [{"node_id",
+/// "label", "role", "sample_rate_hz", "tick_samples", "carrier_hz",
+/// "time_mode", "claimed"}...]}, one per external node) and closes. The
+/// discovery has its own version number so that the hello/welcome (protocol
+/// 1, which older clients check strictly) stays as it was. A bad request is
+/// answered with kReject like a bad hello, and counted the same way.
+///
 /// A side that does not answer within the emulator's timeout, or sends
 /// anything unexpected, is disconnected; it may connect again with kHello.
 #include <cstdint>
@@ -42,6 +51,8 @@ namespace rfsitl::external {
 
 inline constexpr std::uint32_t kMagic = 0x58534652;  // "RFSX" in little-endian memory
 inline constexpr int kProtocolVersion = 1;
+/// Version of the kDiscover / kDiscovery JSON, independent of kProtocolVersion.
+inline constexpr int kDiscoveryVersion = 1;
 
 enum class MsgType : std::uint16_t {
   kHello = 1,
@@ -52,6 +63,8 @@ enum class MsgType : std::uint16_t {
   kTxRequest = 6,
   kRx = 7,
   kRxResult = 8,
+  kDiscover = 9,    ///< which external nodes are there? (claims nothing)
+  kDiscovery = 10,  ///< the answer: every external node and whether it is claimed
 };
 
 // Flag bits, meaning per message type.

@@ -30,7 +30,7 @@ namespace rfsitl::mac {
 /// What a MAC knows of its node and of the engine, fixed for the run.
 struct MacContext {
   NodeId id = 0;
-  std::size_t index = 0;      ///< the node's place in the scenario's list (TDMA slot order)
+  std::size_t index = 0;  ///< the node's place in the scenario's list (TDMA slot order)
   std::size_t num_nodes = 1;
   double sample_rate_hz = 1e6;
   std::size_t tick_samples = 250;  ///< B: MAC times are whole ticks of B samples
@@ -42,7 +42,7 @@ struct MacContext {
   /// The longest a receiver takes, after a frame's last sample, to report it
   /// (the worst of every node's transceiver, plus the channel's longest delay).
   std::size_t rx_latency_samples = 0;
-  std::uint64_t seed = 1;  ///< this node's random stream (backoff draws)
+  std::uint64_t seed = 1;           ///< this node's random stream (backoff draws)
   MacCounters* counters = nullptr;  ///< where the MAC counts (outlives the MAC)
 };
 

@@ -50,9 +50,9 @@ const config::Fields<CsmaSettings>& csma_fields() {
                 "busy at any level)")
           .rule([](const S& s) {
             if (s.cw_max < s.cw_min) {
-              throw config::SettingError(
-                  "cw_max", "must be at least cw_min (" + std::to_string(s.cw_min) + "), got " +
-                                std::to_string(s.cw_max));
+              throw config::SettingError("cw_max", "must be at least cw_min (" +
+                                                       std::to_string(s.cw_min) + "), got " +
+                                                       std::to_string(s.cw_max));
             }
           });
   return f;
@@ -78,8 +78,7 @@ class CsmaMac final : public Mac {
   std::size_t max_radio_payload() const override { return c_.radio_max_payload; }
   std::optional<double> carrier_sense_db() const override { return s_.cca_threshold_db; }
 
-  std::optional<MacTransmission> on_tick(SampleTime now, bool tx_busy,
-                                         FrameQueue& queue) override {
+  std::optional<MacTransmission> on_tick(SampleTime now, bool tx_busy, FrameQueue& queue) override {
     if (ack_due_ && now >= ack_due_->at) {
       const PendingAck ack = *ack_due_;
       ack_due_.reset();
@@ -106,8 +105,8 @@ class CsmaMac final : public Mac {
     const bool unicast = current_->dst != kBroadcastId;
     sending_ = unicast ? Sending::kUnicast : Sending::kBroadcast;
     if (attempts_ > 1) MacCounters::bump(c_.counters->retries);
-    return MacTransmission{current_->kind, current_->dst, &*current_, header_, attempts_ > 1,
-                           unicast};
+    return MacTransmission{current_->kind, current_->dst, &*current_,
+                           header_,        attempts_ > 1, unicast};
   }
 
   void on_sent(SampleTime, SampleTime end) override {

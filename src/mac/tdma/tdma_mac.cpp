@@ -49,11 +49,12 @@ class TdmaMac final : public Mac {
     const std::size_t usable = slot_samples_ > guard_samples_ ? slot_samples_ - guard_samples_ : 0;
     max_payload_ = detail::largest_payload_within(usable, c);
     if (max_payload_ == 0) {
-      throw std::invalid_argument("mac.slot_ms: a slot of " + std::to_string(slot_ms()) +
-                                  " ms less the guard holds no frame of this PHY (an empty "
-                                  "frame lasts " +
-                                  std::to_string(static_cast<double>(c.frame_samples(0)) / c.sample_rate_hz * 1e3) +
-                                  " ms)");
+      throw std::invalid_argument(
+          "mac.slot_ms: a slot of " + std::to_string(slot_ms()) +
+          " ms less the guard holds no frame of this PHY (an empty "
+          "frame lasts " +
+          std::to_string(static_cast<double>(c.frame_samples(0)) / c.sample_rate_hz * 1e3) +
+          " ms)");
     }
   }
 
@@ -61,8 +62,7 @@ class TdmaMac final : public Mac {
   std::size_t max_radio_payload() const override { return max_payload_; }
   std::optional<double> carrier_sense_db() const override { return std::nullopt; }
 
-  std::optional<MacTransmission> on_tick(SampleTime now, bool tx_busy,
-                                         FrameQueue& queue) override {
+  std::optional<MacTransmission> on_tick(SampleTime now, bool tx_busy, FrameQueue& queue) override {
     if (tx_busy) return std::nullopt;
     const NetFrame* next = queue.peek();
     if (next == nullptr) return std::nullopt;

@@ -1,0 +1,308 @@
+#include "rfsitl_device.hpp"
+
+#include <SoapySDR/Constants.h>
+#include <SoapySDR/Errors.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rfsitl::soapy {
+namespace {
+
+constexpr const char* kGainName = "DIGITAL";
+constexpr const char* kFrequencyName = "RF";
+/// Tunable range: the scenario's radio accepts carriers of 1 MHz to 100 GHz;
+/// anything in it may be set, only the band around the carrier is heard.
+constexpr double kMinFrequencyHz = 1e6, kMaxFrequencyHz = 1e11;
+
+void check_channel(int direction, size_t channel) {
+  if ((direction != SOAPY_SDR_RX && direction != SOAPY_SDR_TX) || channel != 0) {
+    throw std::runtime_error("rfsitl: no channel " + std::to_string(channel) + " in direction " +
+                             std::to_string(direction) + " (one RX and one TX channel, 0)");
+  }
+}
+
+}  // namespace
+
+RfsitlDevice::RfsitlDevice(const std::string& socket_path, const external::DiscoveredNode& node,
+                           const NodeStreamer::Settings& settings)
+    : socket_path_(socket_path), node_(node), streamer_(std::make_unique<NodeStreamer>(settings)) {
+  for (auto& p : paths_) p.frequency_hz = node_.carrier_hz;
+}
+
+SoapySDR::Kwargs RfsitlDevice::getHardwareInfo() const {
+  return {{"node", std::to_string(node_.node_id)},
+          {"label", node_.label},
+          {"socket", socket_path_},
+          {"tick_samples", std::to_string(streamer_->tick_samples())},
+          {"rx_overflows", std::to_string(streamer_->overflows())},
+          {"tx_underflows", std::to_string(streamer_->underflows())},
+          {"tx_late_bursts", std::to_string(streamer_->late_bursts())}};
+}
+
+size_t RfsitlDevice::getNumChannels(int direction) const {
+  return direction == SOAPY_SDR_RX || direction == SOAPY_SDR_TX ? 1 : 0;
+}
+
+RfsitlDevice::Path& RfsitlDevice::path(int direction, size_t channel) {
+  check_channel(direction, channel);
+  return paths_[direction == SOAPY_SDR_RX ? 0 : 1];
+}
+
+const RfsitlDevice::Path& RfsitlDevice::path(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return paths_[direction == SOAPY_SDR_RX ? 0 : 1];
+}
+
+// Stream handles are the addresses of paths_[0] (RX) and paths_[1] (TX).
+RfsitlDevice::Path& RfsitlDevice::path_of(SoapySDR::Stream* stream) {
+  for (auto& p : paths_) {
+    if (reinterpret_cast<SoapySDR::Stream*>(&p) == stream && p.stream_open) return p;
+  }
+  throw std::runtime_error("rfsitl: not a stream of this device (closed already?)");
+}
+
+void RfsitlDevice::apply(int direction) {
+  const Path& p = path(direction, 0);
+  const double fs = streamer_->sample_rate_hz();
+  PathTuning t;
+  t.offset_hz = p.frequency_hz - node_.carrier_hz;
+  t.in_band = std::abs(t.offset_hz) < fs / 2.0;
+  t.gain_db = p.gain_db;
+  if (direction == SOAPY_SDR_RX) {
+    streamer_->set_rx_tuning(t);
+  } else {
+    streamer_->set_tx_tuning(t);
+  }
+}
+
+std::vector<std::string> RfsitlDevice::getStreamFormats(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return format_names();
+}
+
+std::string RfsitlDevice::getNativeStreamFormat(int direction, size_t channel,
+                                                double& full_scale) const {
+  check_channel(direction, channel);
+  full_scale = 1.0;
+  return SOAPY_SDR_CF32;
+}
+
+SoapySDR::Stream* RfsitlDevice::setupStream(int direction, const std::string& format,
+                                            const std::vector<size_t>& channels,
+                                            const SoapySDR::Kwargs&) {
+  if (channels.size() > 1 || (channels.size() == 1 && channels[0] != 0)) {
+    throw std::runtime_error("rfsitl: streams have one channel, 0");
+  }
+  Path& p = path(direction, 0);
+  if (p.stream_open) throw std::runtime_error("rfsitl: a stream of this direction is open already");
+  p.format = format_of(format);
+  p.stream_open = true;
+  apply(direction);
+  return reinterpret_cast<SoapySDR::Stream*>(&p);
+}
+
+void RfsitlDevice::closeStream(SoapySDR::Stream* stream) {
+  Path& p = path_of(stream);
+  if (&p == &paths_[0]) streamer_->set_rx_active(false);
+  p.stream_open = false;
+}
+
+size_t RfsitlDevice::getStreamMTU(SoapySDR::Stream*) const {
+  return streamer_->tick_samples();  // one message of the protocol each way per tick
+}
+
+int RfsitlDevice::activateStream(SoapySDR::Stream* stream, int, long long, size_t) {
+  if (&path_of(stream) == &paths_[0]) streamer_->set_rx_active(true);
+  return 0;
+}
+
+int RfsitlDevice::deactivateStream(SoapySDR::Stream* stream, int, long long) {
+  if (&path_of(stream) == &paths_[0]) streamer_->set_rx_active(false);
+  return 0;
+}
+
+int RfsitlDevice::readStream(SoapySDR::Stream* stream, void* const* buffs, size_t num_elems,
+                             int& flags, long long& time_ns, long timeout_us) {
+  Path& p = path_of(stream);
+  if (&p != &paths_[0]) return SOAPY_SDR_NOT_SUPPORTED;
+  std::span<cf32> out;
+  if (p.format == SampleFormat::kCF32) {
+    out = {static_cast<cf32*>(buffs[0]), num_elems};
+  } else {
+    scratch_.resize(num_elems);
+    out = scratch_;
+  }
+  SampleTime t = 0;
+  const int n = streamer_->read(out, t, timeout_us);
+  flags = 0;
+  if (n <= 0) return n;
+  if (p.format != SampleFormat::kCF32) {
+    convert_out(out.first(static_cast<size_t>(n)), p.format, buffs[0]);
+  }
+  flags = SOAPY_SDR_HAS_TIME;
+  time_ns = streamer_->to_ns(t);
+  return n;
+}
+
+int RfsitlDevice::writeStream(SoapySDR::Stream* stream, const void* const* buffs, size_t num_elems,
+                              int& flags, long long time_ns, long timeout_us) {
+  Path& p = path_of(stream);
+  if (&p != &paths_[1]) return SOAPY_SDR_NOT_SUPPORTED;
+  std::span<const cf32> in;
+  if (p.format == SampleFormat::kCF32) {
+    in = {static_cast<const cf32*>(buffs[0]), num_elems};
+  } else {
+    tx_scratch_.resize(num_elems);
+    convert_in(buffs[0], p.format, tx_scratch_);
+    in = tx_scratch_;
+  }
+  const bool timed = (flags & SOAPY_SDR_HAS_TIME) != 0;
+  const bool end_burst = (flags & SOAPY_SDR_END_BURST) != 0;
+  const SampleTime at = timed ? streamer_->to_samples(time_ns) : 0;
+  flags = 0;
+  return streamer_->write(in, timed ? &at : nullptr, end_burst, timeout_us);
+}
+
+int RfsitlDevice::readStreamStatus(SoapySDR::Stream* stream, size_t& chan_mask, int& flags,
+                                   long long& time_ns, long timeout_us) {
+  if (&path_of(stream) != &paths_[1]) return SOAPY_SDR_NOT_SUPPORTED;
+  TxEvent e;
+  const int rc = streamer_->read_event(e, timeout_us);
+  if (rc != 0) return rc;
+  chan_mask = 1;
+  flags = SOAPY_SDR_HAS_TIME;
+  time_ns = streamer_->to_ns(e.time);
+  return e.code;
+}
+
+std::vector<std::string> RfsitlDevice::listAntennas(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return {direction == SOAPY_SDR_RX ? "RX" : "TX"};
+}
+
+std::string RfsitlDevice::getAntenna(int direction, size_t channel) const {
+  return listAntennas(direction, channel).front();
+}
+
+std::vector<std::string> RfsitlDevice::listGains(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return {kGainName};
+}
+
+void RfsitlDevice::setGain(int direction, size_t channel, double value) {
+  const SoapySDR::Range r = getGainRange(direction, channel);
+  if (!(value >= r.minimum() && value <= r.maximum())) {
+    throw std::runtime_error("rfsitl: gain " + std::to_string(value) + " dB outside " +
+                             std::to_string(r.minimum()) + ".." + std::to_string(r.maximum()));
+  }
+  path(direction, channel).gain_db = value;
+  apply(direction);
+}
+
+void RfsitlDevice::setGain(int direction, size_t channel, const std::string& name, double value) {
+  if (name != kGainName) throw std::runtime_error("rfsitl: no gain element '" + name + "'");
+  setGain(direction, channel, value);
+}
+
+double RfsitlDevice::getGain(int direction, size_t channel) const {
+  return path(direction, channel).gain_db;
+}
+
+double RfsitlDevice::getGain(int direction, size_t channel, const std::string&) const {
+  return getGain(direction, channel);
+}
+
+SoapySDR::Range RfsitlDevice::getGainRange(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return direction == SOAPY_SDR_RX ? SoapySDR::Range(kRxGainMinDb, kRxGainMaxDb, 0.0)
+                                   : SoapySDR::Range(kTxGainMinDb, kTxGainMaxDb, 0.0);
+}
+
+SoapySDR::Range RfsitlDevice::getGainRange(int direction, size_t channel,
+                                           const std::string&) const {
+  return getGainRange(direction, channel);
+}
+
+void RfsitlDevice::setFrequency(int direction, size_t channel, double frequency,
+                                const SoapySDR::Kwargs&) {
+  if (!(frequency >= kMinFrequencyHz && frequency <= kMaxFrequencyHz)) {
+    throw std::runtime_error("rfsitl: frequency " + std::to_string(frequency) +
+                             " Hz outside 1 MHz .. 100 GHz");
+  }
+  path(direction, channel).frequency_hz = frequency;
+  apply(direction);
+}
+
+void RfsitlDevice::setFrequency(int direction, size_t channel, const std::string& name,
+                                double frequency, const SoapySDR::Kwargs& args) {
+  if (name != kFrequencyName)
+    throw std::runtime_error("rfsitl: no frequency element '" + name + "'");
+  setFrequency(direction, channel, frequency, args);
+}
+
+double RfsitlDevice::getFrequency(int direction, size_t channel) const {
+  return path(direction, channel).frequency_hz;
+}
+
+double RfsitlDevice::getFrequency(int direction, size_t channel, const std::string&) const {
+  return getFrequency(direction, channel);
+}
+
+std::vector<std::string> RfsitlDevice::listFrequencies(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return {kFrequencyName};
+}
+
+SoapySDR::RangeList RfsitlDevice::getFrequencyRange(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return {SoapySDR::Range(kMinFrequencyHz, kMaxFrequencyHz)};
+}
+
+SoapySDR::RangeList RfsitlDevice::getFrequencyRange(int direction, size_t channel,
+                                                    const std::string&) const {
+  return getFrequencyRange(direction, channel);
+}
+
+void RfsitlDevice::setSampleRate(int direction, size_t channel, double rate) {
+  check_channel(direction, channel);
+  const double fs = streamer_->sample_rate_hz();
+  if (std::abs(rate - fs) > 1e-9 * fs) {
+    throw std::runtime_error("rfsitl: the emulator runs at " + std::to_string(fs) +
+                             " Sa/s; setSampleRate(" + std::to_string(rate) +
+                             ") is not supported (the module does not resample)");
+  }
+}
+
+double RfsitlDevice::getSampleRate(int direction, size_t channel) const {
+  check_channel(direction, channel);
+  return streamer_->sample_rate_hz();
+}
+
+std::vector<double> RfsitlDevice::listSampleRates(int direction, size_t channel) const {
+  return {getSampleRate(direction, channel)};
+}
+
+SoapySDR::RangeList RfsitlDevice::getSampleRateRange(int direction, size_t channel) const {
+  const double fs = getSampleRate(direction, channel);
+  return {SoapySDR::Range(fs, fs)};
+}
+
+double RfsitlDevice::getBandwidth(int direction, size_t channel) const {
+  return getSampleRate(direction, channel);
+}
+
+SoapySDR::RangeList RfsitlDevice::getBandwidthRange(int direction, size_t channel) const {
+  return getSampleRateRange(direction, channel);
+}
+
+long long RfsitlDevice::getHardwareTime(const std::string&) const {
+  return streamer_->to_ns(streamer_->now());
+}
+
+void RfsitlDevice::setHardwareTime(long long, const std::string&) {
+  throw std::runtime_error(
+      "rfsitl: hardware time is the emulator's virtual time; it cannot be set");
+}
+
+}  // namespace rfsitl::soapy

@@ -1,0 +1,111 @@
+#pragma once
+/// `driver=rfsitl`: one node of a running emulator as a SoapySDR device with
+/// one RX and one TX channel (channel 0). The sample rate is the emulator's
+/// and cannot change; the frequency is the scenario's radio carrier, and
+/// tuning elsewhere shifts the samples (inside +-fs/2) or silences the
+/// direction (outside); gains scale the samples; hardware time is the virtual
+/// time in nanoseconds. Streaming goes through NodeStreamer, whose thread
+/// answers the emulator, so a slow application never stalls it.
+#include <SoapySDR/Device.hpp>
+
+#include <array>
+#include <memory>
+#include <string>
+
+#include "node_streamer.hpp"
+#include "rfsitl/external/handshake.hpp"
+#include "sample_formats.hpp"
+
+namespace rfsitl::soapy {
+
+/// Gain ranges in dB (0 dB leaves the samples as the emulator has them).
+inline constexpr double kRxGainMinDb = -40.0, kRxGainMaxDb = 40.0;
+inline constexpr double kTxGainMinDb = -60.0, kTxGainMaxDb = 0.0;
+
+class RfsitlDevice final : public SoapySDR::Device {
+ public:
+  /// Claims `node` at `socket_path` (NodeStreamer). Throws std::runtime_error.
+  RfsitlDevice(const std::string& socket_path, const external::DiscoveredNode& node,
+               const NodeStreamer::Settings& settings);
+
+  std::string getDriverKey() const override { return "rfsitl"; }
+  std::string getHardwareKey() const override { return "rfsitl"; }
+  SoapySDR::Kwargs getHardwareInfo() const override;
+  size_t getNumChannels(int direction) const override;
+  bool getFullDuplex(int, size_t) const override { return true; }
+
+  // Streams: at most one per direction, channel 0.
+  std::vector<std::string> getStreamFormats(int direction, size_t channel) const override;
+  std::string getNativeStreamFormat(int direction, size_t channel,
+                                    double& full_scale) const override;
+  SoapySDR::Stream* setupStream(int direction, const std::string& format,
+                                const std::vector<size_t>& channels,
+                                const SoapySDR::Kwargs& args) override;
+  void closeStream(SoapySDR::Stream* stream) override;
+  size_t getStreamMTU(SoapySDR::Stream* stream) const override;
+  int activateStream(SoapySDR::Stream* stream, int flags, long long time_ns,
+                     size_t num_elems) override;
+  int deactivateStream(SoapySDR::Stream* stream, int flags, long long time_ns) override;
+  int readStream(SoapySDR::Stream* stream, void* const* buffs, size_t num_elems, int& flags,
+                 long long& time_ns, long timeout_us) override;
+  int writeStream(SoapySDR::Stream* stream, const void* const* buffs, size_t num_elems, int& flags,
+                  long long time_ns, long timeout_us) override;
+  int readStreamStatus(SoapySDR::Stream* stream, size_t& chan_mask, int& flags, long long& time_ns,
+                       long timeout_us) override;
+
+  std::vector<std::string> listAntennas(int direction, size_t channel) const override;
+  std::string getAntenna(int direction, size_t channel) const override;
+
+  std::vector<std::string> listGains(int direction, size_t channel) const override;
+  void setGain(int direction, size_t channel, double value) override;
+  void setGain(int direction, size_t channel, const std::string& name, double value) override;
+  double getGain(int direction, size_t channel) const override;
+  double getGain(int direction, size_t channel, const std::string& name) const override;
+  SoapySDR::Range getGainRange(int direction, size_t channel) const override;
+  SoapySDR::Range getGainRange(int direction, size_t channel,
+                               const std::string& name) const override;
+
+  void setFrequency(int direction, size_t channel, double frequency,
+                    const SoapySDR::Kwargs& args) override;
+  void setFrequency(int direction, size_t channel, const std::string& name, double frequency,
+                    const SoapySDR::Kwargs& args) override;
+  double getFrequency(int direction, size_t channel) const override;
+  double getFrequency(int direction, size_t channel, const std::string& name) const override;
+  std::vector<std::string> listFrequencies(int direction, size_t channel) const override;
+  SoapySDR::RangeList getFrequencyRange(int direction, size_t channel) const override;
+  SoapySDR::RangeList getFrequencyRange(int direction, size_t channel,
+                                        const std::string& name) const override;
+
+  void setSampleRate(int direction, size_t channel, double rate) override;
+  double getSampleRate(int direction, size_t channel) const override;
+  std::vector<double> listSampleRates(int direction, size_t channel) const override;
+  SoapySDR::RangeList getSampleRateRange(int direction, size_t channel) const override;
+  double getBandwidth(int direction, size_t channel) const override;
+  SoapySDR::RangeList getBandwidthRange(int direction, size_t channel) const override;
+
+  bool hasHardwareTime(const std::string& what) const override { return what.empty(); }
+  long long getHardwareTime(const std::string& what) const override;
+  void setHardwareTime(long long time_ns, const std::string& what) override;
+
+ private:
+  /// One direction's settings; index 0 = RX, 1 = TX.
+  struct Path {
+    double frequency_hz = 0.0;
+    double gain_db = 0.0;
+    bool stream_open = false;
+    SampleFormat format = SampleFormat::kCF32;
+  };
+  Path& path(int direction, size_t channel);
+  const Path& path(int direction, size_t channel) const;
+  Path& path_of(SoapySDR::Stream* stream);
+  void apply(int direction);
+
+  const std::string socket_path_;
+  const external::DiscoveredNode node_;
+  std::unique_ptr<NodeStreamer> streamer_;
+  std::array<Path, 2> paths_;
+  std::vector<cf32> scratch_;  // format conversions (one stream per direction)
+  std::vector<cf32> tx_scratch_;
+};
+
+}  // namespace rfsitl::soapy

@@ -1,0 +1,255 @@
+"""The SoapySDR module (driver=rfsitl, src/soapy/) against the real emulator:
+SoapySDRUtil finds every waiting node and probes one; a python3-soapysdr
+program on two nodes sends a timed burst from one and finds it in the other's
+RX stream at that virtual time, sees readStream time out in time, a wrong
+sample rate and a second claim refused, and gets an error (no hang) when the
+emulator stops under it.
+
+Needs soapysdr-tools and python3-soapysdr (scripts/setup.sh); skipped with a
+message without them. The module is found through SOAPY_SDR_PLUGIN_PATH: the
+build's src/soapy folder (RFSITL_SOAPY_DIR, set by tests/CMakeLists.txt)."""
+
+import json
+import os
+import shutil
+import subprocess
+import time
+import unittest
+
+from harness import ARRIVAL_S, BIN, LOAD_TOLERANT, Emulator
+
+PYTHON = "/usr/bin/python3"  # Debian's python3-soapysdr loads only there
+MODULE_DIR = os.environ.get(
+    "RFSITL_SOAPY_DIR", os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(BIN))),
+                                     "src", "soapy"))
+
+
+def soapy_missing():
+    """Why the test cannot run here, or None."""
+    if shutil.which("SoapySDRUtil") is None:
+        return "SoapySDRUtil not installed (apt-get install soapysdr-tools)"
+    r = subprocess.run([PYTHON, "-c", "import SoapySDR"], capture_output=True, text=True)
+    if r.returncode != 0:
+        return "python3-soapysdr not installed: " + r.stderr.strip()
+    return None
+
+
+def soapy_env():
+    """The environment for programs that load the module. A sanitized build's
+    module needs the ASan runtime loaded first, which SoapySDRUtil and python
+    are not built with."""
+    env = dict(os.environ, SOAPY_SDR_PLUGIN_PATH=MODULE_DIR)
+    module = os.path.join(MODULE_DIR, "libSoapyRfsitl.so")
+    ldd = subprocess.run(["ldd", module], capture_output=True, text=True).stdout
+    if "libasan" in ldd:
+        def lib(name):
+            return subprocess.run(["gcc", f"-print-file-name={name}"], capture_output=True,
+                                  text=True).stdout.strip()
+        # libstdc++ too: python does not link it, and without it loaded at
+        # start ASan's __cxa_throw interceptor finds no real one to call.
+        env["LD_PRELOAD"] = f"{lib('libasan.so')} {lib('libstdc++.so')}"
+        # python and SoapySDRUtil keep memory to their end; only the module is ours.
+        env["ASAN_OPTIONS"] = "detect_leaks=0"
+    return env
+
+
+def soapy_util(*args, timeout=60):
+    r = subprocess.run(["SoapySDRUtil", *args], capture_output=True, text=True,
+                       env=soapy_env(), timeout=timeout)
+    return r.stdout + r.stderr
+
+
+# Runs in a python of its own (see soapy_env); prints one JSON line per step.
+NODE_PROGRAM = r"""
+import json, sys, time
+import numpy as np
+import SoapySDR
+from SoapySDR import (SOAPY_SDR_RX, SOAPY_SDR_TX, SOAPY_SDR_CF32, SOAPY_SDR_HAS_TIME,
+                      SOAPY_SDR_END_BURST, SOAPY_SDR_TIMEOUT, SOAPY_SDR_TIME_ERROR,
+                      SOAPY_SDR_STREAM_ERROR)
+
+sock = sys.argv[1]
+def say(**kw):
+    print(json.dumps(kw), flush=True)
+
+a = SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="1"))
+b = SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="2"))
+try:
+    SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="1"))
+    say(step="second_claim", error=None)
+except RuntimeError as e:
+    say(step="second_claim", error=str(e))
+fs = a.getSampleRate(SOAPY_SDR_RX, 0)
+try:
+    a.setSampleRate(SOAPY_SDR_RX, 0, 2 * fs)
+    say(step="wrong_rate", error=None)
+except RuntimeError as e:
+    say(step="wrong_rate", error=str(e))
+
+rx = b.setupStream(SOAPY_SDR_RX, SOAPY_SDR_CF32)
+tx = a.setupStream(SOAPY_SDR_TX, SOAPY_SDR_CF32)
+mtu = b.getStreamMTU(rx)
+b.activateStream(rx)
+a.activateStream(tx)
+buf = np.zeros(mtu, np.complex64)
+
+def read(timeout_us):
+    r = b.readStream(rx, [buf], mtu, timeoutUs=timeout_us)
+    return r.ret, r.flags, r.timeNs, buf[:max(r.ret, 0)].copy()
+
+# The emulator runs once both nodes joined: wait for the clock to move.
+deadline = time.monotonic() + 60
+while a.getHardwareTime() == 0 and time.monotonic() < deadline:
+    time.sleep(0.01)
+tick_ns = mtu * 1e9 / fs
+burst = np.full(2000, 0.7, np.complex64)
+# Far enough ahead that the pump has not built that tick yet, even when the
+# machine is busy; a late burst is reported and retried further ahead.
+margin = 25
+for attempt in range(4):
+    when = a.getHardwareTime() + int(margin * tick_ns)
+    n = a.writeStream(tx, [burst], len(burst), SOAPY_SDR_HAS_TIME | SOAPY_SDR_END_BURST, when).ret
+    st = a.readStreamStatus(tx, timeoutUs=int(2 * margin * tick_ns / 1e3 / 0.1))
+    if st.ret != SOAPY_SDR_TIME_ERROR:
+        break
+    margin *= 4
+say(step="write", written=n, when=when, status=st.ret)
+
+# Everything from two ticks before the burst's time to three after it, then
+# its first loud sample: the level is the burst's own, whatever the path loss.
+times, samples, gaps, last_end, reads = [], [], 0, None, 0
+deadline = time.monotonic() + 120
+while (last_end is None or last_end < when + 3 * tick_ns) and time.monotonic() < deadline:
+    ret, flags, t, x = read(200000)
+    if ret <= 0:
+        continue
+    reads += 1
+    if not flags & SOAPY_SDR_HAS_TIME:
+        say(step="error", what="no SOAPY_SDR_HAS_TIME")
+    if last_end is not None and abs(t - last_end) > 1:
+        gaps += 1
+    last_end = t + ret * 1e9 / fs
+    if last_end >= when - 2 * tick_ns:
+        times.append(t + np.arange(ret) * 1e9 / fs)
+        samples.append(x)
+found = None
+if samples:
+    x, ts = np.abs(np.concatenate(samples)), np.concatenate(times)
+    found = float(ts[np.nonzero(x > 0.3 * x.max())[0][0]])
+say(step="rx", found=found, when=when, tick_ns=tick_ns, gaps=gaps, reads=reads)
+
+b.deactivateStream(rx)
+t0 = time.monotonic()
+ret = read(50000)[0]
+say(step="timeout", ret=ret, waited=time.monotonic() - t0)
+
+b.activateStream(rx)
+say(step="streaming")
+t0 = time.monotonic()
+ret = 0
+while time.monotonic() - t0 < 120:
+    ret = read(100000)[0]
+    if ret < 0 and ret != SOAPY_SDR_TIMEOUT:
+        break
+say(step="stopped", ret=ret, waited=time.monotonic() - t0)
+b.closeStream(rx)
+a.closeStream(tx)
+a = b = None
+say(step="closed")
+"""
+
+
+class SoapyModuleTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        why = soapy_missing()
+        if why:
+            raise unittest.SkipTest(why)
+        if not os.path.exists(os.path.join(MODULE_DIR, "libSoapyRfsitl.so")):
+            raise AssertionError("SoapySDR is installed but the module was not built in "
+                                 + MODULE_DIR)
+
+    def start(self, wait_for_nodes=True):
+        """An emulator with nodes 1 and 2 external; `wait_for_nodes`: it waits
+        for both before it runs, else it runs without them after 1 s (they
+        still wait for a program)."""
+        emu = Emulator({1: (0, 0, 10), 2: (15, 0, 10)},
+                       node_phy={1: {"type": "external"}, 2: {"type": "external"}},
+                       extra_yaml="external:\n  start_timeout_s: %d\n"
+                       % (300 if wait_for_nodes else 1),
+                       ready_marker="waiting up to" if wait_for_nodes else "rfsitl: ready",
+                       args=["--external-timeout", "5", *LOAD_TOLERANT])
+        emu.__enter__()
+        self.addCleanup(emu.__exit__, None, None, None)
+        return emu, f"/tmp/rfsitl-{emu.net_base}.sock"
+
+    def test_find_lists_every_waiting_node_and_probe_shows_the_device(self):
+        emu, sock = self.start(wait_for_nodes=False)
+        out = soapy_util(f"--find=driver=rfsitl,socket={sock}")
+        for node in (1, 2):
+            self.assertIn(f"node = {node}", out)
+            self.assertIn(f"integration-test node {node}", out)
+        # Without socket= the module scans /tmp/rfsitl-*.sock (the default path).
+        self.assertIn(f"serial = {sock}#1", soapy_util("--find=driver=rfsitl"))
+        out = soapy_util(f"--probe=driver=rfsitl,socket={sock},node=1")
+        for text in ("Channels: 1 Rx, 1 Tx", "CF32", "CS16", "CS8", "Native format: CF32",
+                     "Sample rates: 1 MSps", "Full gain range: [-40, 40] dB",
+                     "Full gain range: [-60, 0] dB", "driver=rfsitl"):
+            self.assertIn(text, out)
+        # The probe's claim ended with it: both nodes are free again, once the
+        # emulator has seen the probe's connection close (at its next tick).
+        deadline = time.monotonic() + ARRIVAL_S
+        out = soapy_util(f"--find=driver=rfsitl,socket={sock}")
+        while out.count("claimed = 0") != 2 and time.monotonic() < deadline:
+            time.sleep(0.2)
+            out = soapy_util(f"--find=driver=rfsitl,socket={sock}")
+        self.assertEqual(out.count("claimed = 0"), 2, out)
+        summary = emu.stop()
+        self.assertEqual(summary["external"]["rejected_connections"], 0)
+
+    def test_timed_burst_arrives_at_its_virtual_time(self):
+        emu, sock = self.start()
+        proc = subprocess.Popen([PYTHON, "-u", "-c", NODE_PROGRAM, sock], env=soapy_env(),
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.addCleanup(proc.stdout.close)
+        self.addCleanup(lambda: proc.poll() is None and proc.kill())
+        steps, lines = {}, []
+
+        def until(step, timeout=180):
+            deadline = time.monotonic() + timeout
+            while step not in steps:
+                line = proc.stdout.readline()
+                if not line or time.monotonic() > deadline:
+                    self.fail(f"no '{step}' from the Soapy program:\n" + "".join(lines)
+                              + "".join(emu.output[-30:]))
+                lines.append(line)
+                if line.startswith("{"):
+                    j = json.loads(line)
+                    steps[j["step"]] = j
+            return steps[step]
+
+        self.assertIn("already claimed by another program; pass takeover=1",
+                      until("second_claim")["error"] or "")
+        self.assertIn("setSampleRate(2000000.000000) is not supported",
+                      until("wrong_rate")["error"] or "")
+        w = until("write")
+        self.assertEqual(w["written"], 2000)
+        self.assertEqual(w["status"], -1, "late burst (SOAPY_SDR_TIME_ERROR) or other status")
+        rx = until("rx")
+        self.assertIsNotNone(rx["found"], "the burst never showed up: " + "".join(lines))
+        self.assertLessEqual(abs(rx["found"] - rx["when"]), rx["tick_ns"], rx)
+        self.assertEqual(rx["gaps"], 0, "RX timestamps not contiguous")
+        t = until("timeout")
+        self.assertEqual(t["ret"], -1)  # SOAPY_SDR_TIMEOUT
+        self.assertGreaterEqual(t["waited"], 0.045)
+        self.assertLess(t["waited"], 5.0)
+        until("streaming")
+        emu.stop()
+        s = until("stopped", timeout=ARRIVAL_S)
+        self.assertEqual(s["ret"], -2)  # SOAPY_SDR_STREAM_ERROR
+        until("closed", timeout=ARRIVAL_S)
+        self.assertEqual(proc.wait(ARRIVAL_S), 0, "".join(lines))
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
