@@ -21,6 +21,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rfsitl/channel/mixer.hpp"
@@ -272,15 +273,16 @@ double measure_read_bandwidth(std::size_t n, std::size_t b, double seconds, floa
   return median_rate(call, static_cast<double>(n * b * sizeof(cf32)), seconds);
 }
 
-/// Noise samples per second added by NoiseSource::add_to to `b`-sample blocks.
-double measure_noise(std::size_t b, double seconds, float* sink) {
+/// Noise samples per second added by NoiseSource::add_to to `b`-sample blocks,
+/// with `kernel`.
+double measure_noise(std::size_t b, double seconds, float* sink, channel::NoiseKernel kernel) {
   const channel::NoiseSource noise(1, 0, 1.0F);
   std::vector<cf32> out(b);
   std::uint64_t t = 0;
   const auto call = [&](long calls) {
     const auto t0 = Clock::now();
     for (long c = 0; c < calls; ++c, t += b) {
-      noise.add_to(out, t);
+      noise.add_to(out, t, kernel);
       *sink += out[static_cast<std::size_t>(c) % b].real();
     }
     return elapsed_s(t0);
@@ -364,10 +366,19 @@ int main(int argc, char** argv) {
           << r * kFlopsPerComplexMac / 1e9 << "," << r / peak_cmacs << ",," << bound << "\n";
     }
   }
+  // The noise with each kernel this CPU runs (all give the same bits).
+  const std::pair<channel::NoiseKernel, const char*> noise_kernels[] = {
+      {channel::NoiseKernel::kScalar, "scalar"},
+      {channel::NoiseKernel::kAvx2, "avx2"},
+      {channel::NoiseKernel::kAvx512, "avx512"}};
   for (const std::size_t b : blocks) {
-    const double r = measure_noise(b, seconds, &sink);
-    std::printf("noise B=%4zu %7.2f M samples/s = %5.1f ns/sample\n", b, r / 1e6, 1e9 / r);
-    out << "noise,channel::NoiseSource,," << b << ",,,," << r << ",\n";
+    for (const auto& [kernel, name] : noise_kernels) {
+      if (!channel::noise_kernel_supported(kernel)) continue;
+      const double r = measure_noise(b, seconds, &sink, kernel);
+      std::printf("noise %-6s B=%4zu %7.2f M samples/s = %5.2f ns/sample\n", name, b, r / 1e6,
+                  1e9 / r);
+      out << "noise,channel::NoiseSource " << name << ",," << b << ",,,," << r << ",\n";
+    }
   }
   std::printf("mix_bench: wrote %s (checksum %g)\n", csv.c_str(), static_cast<double>(sink));
   return 0;

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
+
+#include "noise_kernels.hpp"
 
 namespace rfsitl::channel {
 
@@ -19,37 +20,86 @@ NoiseSource::NoiseSource(std::uint64_t seed, std::uint64_t stream, float varianc
   sigma_per_dim_ = std::sqrt(static_cast<double>(variance) / 2.0);
 }
 
-// One Philox block per pair of samples: counter = (t / 2, stream); sample t
-// takes words 0-1 when t is even, 2-3 when odd. Box-Muller: from two
-// independent uniforms, r = sqrt(-2 ln u1) and theta = 2 pi u2 give two
-// independent N(0, 1) variates r cos(theta) and r sin(theta), which are exactly
-// one circular complex sample. u1 is in (0, 1] (never log 0); its 32 bits put
-// the largest radius at 6.66 sigma, beyond which a Gaussian has 2e-10 of its
-// samples. Single precision: the samples are floats anyway.
+// Samples come in groups of 32: group g is Philox blocks 16 g .. 16 g + 15
+// (counter = (block, stream)), block 16 g + j giving sample 32 g + j from its
+// words 0-1 and sample 32 g + 16 + j from words 2-3, each by Box-Muller in
+// single precision (noise_math.hpp). A kernel makes a whole group at a time;
+// a buffer that starts or ends inside a group takes its part of it.
 namespace {
 
-cf32 gaussian(std::uint32_t a, std::uint32_t b, float sigma) {
-  const float u1 = (static_cast<float>(a) + 1.0f) * 0x1.0p-32f;
-  const float theta = static_cast<float>(b) * (2.0f * std::numbers::pi_v<float> * 0x1.0p-32f);
-  const float r = sigma * std::sqrt(-2.0f * std::log(u1));
-  return {r * std::cos(theta), r * std::sin(theta)};
+struct Kernels {
+  noise_kernels::GroupFn best = noise_kernels::group_scalar;
+  bool avx2 = false;
+  bool avx512 = false;
+};
+
+const Kernels& kernels() {
+  static const Kernels k = [] {
+    Kernels s;
+    s.avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    s.avx512 = __builtin_cpu_supports("avx512f") && s.avx2;
+    s.best = s.avx512 ? noise_kernels::group_avx512
+             : s.avx2 ? noise_kernels::group_avx2
+                      : noise_kernels::group_scalar;
+    return s;
+  }();
+  return k;
 }
+
+noise_kernels::GroupFn kernel_of(NoiseKernel k) {
+  if (!noise_kernel_supported(k)) {
+    throw std::invalid_argument("NoiseSource: this CPU cannot run the requested kernel");
+  }
+  switch (k) {
+    case NoiseKernel::kScalar:
+      return noise_kernels::group_scalar;
+    case NoiseKernel::kAvx2:
+      return noise_kernels::group_avx2;
+    case NoiseKernel::kAvx512:
+      return noise_kernels::group_avx512;
+    case NoiseKernel::kBest:
+      break;
+  }
+  return kernels().best;
+}
+
+constexpr std::uint64_t kGroup = 32;
 
 }  // namespace
 
+bool noise_kernel_supported(NoiseKernel k) {
+  switch (k) {
+    case NoiseKernel::kAvx2:
+      return kernels().avx2;
+    case NoiseKernel::kAvx512:
+      return kernels().avx512;
+    case NoiseKernel::kBest:
+    case NoiseKernel::kScalar:
+      return true;
+  }
+  return false;
+}
+
 void NoiseSource::add_to(std::span<cf32> buf, std::uint64_t first_sample) const {
-  if (variance_ == 0.0f) return;
+  add_to(buf, first_sample, NoiseKernel::kBest);
+}
+
+void NoiseSource::add_to(std::span<cf32> buf, std::uint64_t first_sample,
+                         NoiseKernel kernel) const {
+  if (variance_ == 0.0f || buf.empty()) return;
+  const noise_kernels::GroupFn group_fn = kernel_of(kernel);
   const auto sigma = static_cast<float>(sigma_per_dim_);
+  alignas(64) float group[2 * kGroup];
   std::size_t i = 0;
   while (i < buf.size()) {
     const std::uint64_t t = first_sample + i;
-    const std::uint64_t pair = t >> 1;
-    const PhiloxCounter w =
-        philox4x32({static_cast<std::uint32_t>(pair), static_cast<std::uint32_t>(pair >> 32),
-                    stream_[0], stream_[1]},
-                   key_);
-    if ((t & 1) == 0) buf[i++] += gaussian(w[0], w[1], sigma);
-    if (i < buf.size()) buf[i++] += gaussian(w[2], w[3], sigma);
+    group_fn(t / kGroup, key_.data(), stream_, sigma, group);
+    const std::size_t from = t % kGroup;
+    const std::size_t n = std::min<std::size_t>(kGroup - from, buf.size() - i);
+    for (std::size_t k = 0; k < n; ++k) {
+      buf[i + k] += cf32{group[2 * (from + k)], group[2 * (from + k) + 1]};
+    }
+    i += n;
   }
 }
 

@@ -83,9 +83,14 @@ std::vector<Found> discover_nodes(const SoapySDR::Kwargs& args) {
       SoapySDR::logf(SOAPY_SDR_DEBUG, "rfsitl: skipping %s: %s", path.c_str(), e.what());
       continue;
     }
-    for (const auto& n : nodes) {
+    for (auto& n : nodes) {
       // Transceiver-role nodes are `rfsitl node` children, not for SDR programs.
-      if (n.role == "samples" && (node == 0 || n.node_id == node)) found.push_back({path, n});
+      if (n.role != "samples" || (node != 0 && n.node_id != node)) continue;
+      // Claimed means: by another program. The answer for a node this process
+      // holds stays what it was before the claim, so that SoapySDR's device
+      // table hands the same device to every make of the process.
+      if (RfsitlDevice::held_here(path, n.node_id)) n.claimed = false;
+      found.push_back({path, n});
     }
   }
   return found;
@@ -150,6 +155,12 @@ SoapySDR::Device* make_rfsitl(const SoapySDR::Kwargs& args) {
         (arg(args, "socket").empty() ? " (searched /tmp/rfsitl-*.sock; pass socket=PATH)" : ""));
   }
   const Found& f = found.front();
+  if (RfsitlDevice::held_here(f.socket, f.node.node_id)) {
+    // SoapySDR shares the device it made; reaching here means other arguments.
+    throw std::runtime_error("rfsitl: node " + std::to_string(f.node.node_id) + " of " + f.socket +
+                             " is held by this process already (make it with the same arguments "
+                             "to share the device)");
+  }
   if (f.node.claimed && !takeover) {
     throw std::runtime_error("rfsitl: node " + std::to_string(f.node.node_id) + " of " + f.socket +
                              " is already claimed by another program; pass takeover=1 to take "

@@ -4,7 +4,10 @@
 #include <SoapySDR/Errors.h>
 
 #include <cmath>
+#include <mutex>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 namespace rfsitl::soapy {
 namespace {
@@ -14,6 +17,12 @@ constexpr const char* kFrequencyName = "RF";
 /// Tunable range: the scenario's radio accepts carriers of 1 MHz to 100 GHz;
 /// anything in it may be set, only the band around the carrier is heard.
 constexpr double kMinFrequencyHz = 1e6, kMaxFrequencyHz = 1e11;
+
+constexpr const char* kConnectedSensor = "connected";
+
+/// The nodes this process's devices hold: (socket, node id).
+std::mutex held_mutex;
+std::set<std::pair<std::string, NodeId>> held_nodes;
 
 void check_channel(int direction, size_t channel) {
   if ((direction != SOAPY_SDR_RX && direction != SOAPY_SDR_TX) || channel != 0) {
@@ -28,6 +37,18 @@ RfsitlDevice::RfsitlDevice(const std::string& socket_path, const external::Disco
                            const NodeStreamer::Settings& settings)
     : socket_path_(socket_path), node_(node), streamer_(std::make_unique<NodeStreamer>(settings)) {
   for (auto& p : paths_) p.frequency_hz = node_.carrier_hz;
+  std::lock_guard lock(held_mutex);
+  held_nodes.emplace(socket_path_, node_.node_id);
+}
+
+RfsitlDevice::~RfsitlDevice() {
+  std::lock_guard lock(held_mutex);
+  held_nodes.erase({socket_path_, node_.node_id});
+}
+
+bool RfsitlDevice::held_here(const std::string& socket_path, NodeId node_id) {
+  std::lock_guard lock(held_mutex);
+  return held_nodes.contains({socket_path, node_id});
 }
 
 SoapySDR::Kwargs RfsitlDevice::getHardwareInfo() const {
@@ -294,6 +315,26 @@ double RfsitlDevice::getBandwidth(int direction, size_t channel) const {
 
 SoapySDR::RangeList RfsitlDevice::getBandwidthRange(int direction, size_t channel) const {
   return getSampleRateRange(direction, channel);
+}
+
+std::vector<std::string> RfsitlDevice::listSensors() const {
+  return {kConnectedSensor};
+}
+
+SoapySDR::ArgInfo RfsitlDevice::getSensorInfo(const std::string& key) const {
+  if (key != kConnectedSensor) throw std::runtime_error("rfsitl: no sensor '" + key + "'");
+  SoapySDR::ArgInfo info;
+  info.key = kConnectedSensor;
+  info.name = "Connected to the emulator";
+  info.type = SoapySDR::ArgInfo::BOOL;
+  info.value = "true";
+  info.description = "false once the emulator closed the connection (stopped or dropped us)";
+  return info;
+}
+
+std::string RfsitlDevice::readSensor(const std::string& key) const {
+  if (key != kConnectedSensor) throw std::runtime_error("rfsitl: no sensor '" + key + "'");
+  return streamer_->connected() ? "true" : "false";
 }
 
 long long RfsitlDevice::getHardwareTime(const std::string&) const {

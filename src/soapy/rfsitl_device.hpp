@@ -27,6 +27,15 @@ class RfsitlDevice final : public SoapySDR::Device {
   /// Claims `node` at `socket_path` (NodeStreamer). Throws std::runtime_error.
   RfsitlDevice(const std::string& socket_path, const external::DiscoveredNode& node,
                const NodeStreamer::Settings& settings);
+  ~RfsitlDevice() override;
+  RfsitlDevice(const RfsitlDevice&) = delete;
+  RfsitlDevice& operator=(const RfsitlDevice&) = delete;
+
+  /// True while a device of this process holds `node_id` of `socket_path`.
+  /// find reports such a node as it did before the claim, because SoapySDR
+  /// shares one device among the makes of a process only when find answers
+  /// them identically (GNU Radio's Soapy source and sink each make one).
+  static bool held_here(const std::string& socket_path, NodeId node_id);
 
   std::string getDriverKey() const override { return "rfsitl"; }
   std::string getHardwareKey() const override { return "rfsitl"; }
@@ -82,6 +91,13 @@ class RfsitlDevice final : public SoapySDR::Device {
   SoapySDR::RangeList getSampleRateRange(int direction, size_t channel) const override;
   double getBandwidth(int direction, size_t channel) const override;
   SoapySDR::RangeList getBandwidthRange(int direction, size_t channel) const override;
+
+  /// Sensor "connected": "true" until the emulator closes the connection, so
+  /// that an application whose stream blocks swallow errors (GNU Radio's) can
+  /// notice that the emulator is gone.
+  std::vector<std::string> listSensors() const override;
+  SoapySDR::ArgInfo getSensorInfo(const std::string& key) const override;
+  std::string readSensor(const std::string& key) const override;
 
   bool hasHardwareTime(const std::string& what) const override { return what.empty(); }
   long long getHardwareTime(const std::string& what) const override;

@@ -61,7 +61,7 @@ def soapy_util(*args, timeout=60):
 
 # Runs in a python of its own (see soapy_env); prints one JSON line per step.
 NODE_PROGRAM = r"""
-import json, sys, time
+import json, subprocess, sys, time
 import numpy as np
 import SoapySDR
 from SoapySDR import (SOAPY_SDR_RX, SOAPY_SDR_TX, SOAPY_SDR_CF32, SOAPY_SDR_HAS_TIME,
@@ -74,11 +74,17 @@ def say(**kw):
 
 a = SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="1"))
 b = SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="2"))
-try:
-    SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="1"))
-    say(step="second_claim", error=None)
-except RuntimeError as e:
-    say(step="second_claim", error=str(e))
+# A second make in this process shares the device (as GNU Radio's Soapy source
+# and sink do); another process is refused.
+shared = SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="1"))
+shared.setGain(SOAPY_SDR_RX, 0, -3.0)
+say(step="shared", gain=a.getGain(SOAPY_SDR_RX, 0))
+shared.setGain(SOAPY_SDR_RX, 0, 0.0)
+shared = None
+claim = subprocess.run([sys.executable, "-c", "import SoapySDR, sys; SoapySDR.Device("
+                        "dict(driver='rfsitl', socket=sys.argv[1], node='1'))", sock],
+                       capture_output=True, text=True, timeout=60)
+say(step="second_claim", error=claim.stderr if claim.returncode else None)
 fs = a.getSampleRate(SOAPY_SDR_RX, 0)
 try:
     a.setSampleRate(SOAPY_SDR_RX, 0, 2 * fs)
@@ -228,6 +234,7 @@ class SoapyModuleTest(unittest.TestCase):
                     steps[j["step"]] = j
             return steps[step]
 
+        self.assertEqual(until("shared")["gain"], -3.0)
         self.assertIn("already claimed by another program; pass takeover=1",
                       until("second_claim")["error"] or "")
         self.assertIn("setSampleRate(2000000.000000) is not supported",

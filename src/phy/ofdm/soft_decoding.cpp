@@ -130,18 +130,25 @@ std::vector<float> deinterleave(std::span<const float> in, unsigned n_bpsc) {
 
 std::vector<float> depuncture(std::span<const float> in, CodeRate rate, std::size_t n_data_bits) {
   const std::span<const std::uint8_t> keep = keep_pattern(rate);
+  const std::size_t period = keep.size();
   const std::size_t n_coded = 2 * n_data_bits;
   // The pattern repeats over the whole stream; a final partial period keeps the
   // positions of the period's start, as puncture() does.
-  std::size_t expected = 0;
-  for (std::size_t i = 0; i < n_coded; ++i) expected += keep[i % keep.size()];
+  const std::size_t per_period = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1));
+  std::size_t expected = n_coded / period * per_period;
+  for (std::size_t k = 0; k < n_coded % period; ++k) expected += keep[k];
   if (in.size() != expected) {
     throw std::invalid_argument("depuncture: input length does not match rate and n_data_bits");
   }
+  // Period by period, without a division per value: this runs once per frame
+  // and receiver over every coded bit (at 20 Msps, a receiver's hot spot).
   std::vector<float> out(n_coded, 0.0F);  // stolen positions stay erasures
   std::size_t next = 0;
-  for (std::size_t i = 0; i < n_coded; ++i) {
-    if (keep[i % keep.size()] != 0) out[i] = in[next++];
+  for (std::size_t i = 0; i < n_coded; i += period) {
+    const std::size_t n = std::min(period, n_coded - i);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (keep[k] != 0) out[i + k] = in[next++];
+    }
   }
   return out;
 }
