@@ -86,22 +86,30 @@ class GmskRx(gr.hier_block2):
         self.msg_connect(to_pdu, "pdus", self, "pdus")
 
 
+def wire_gmsk_node(tb, node_id, net_port, bind, samples_per_symbol, bt, max_payload):
+    """The node between its radio (tb.source, tb.sink) and its net port: UB-ANC
+    framing, a TCP server for the agent, GMSK modulator and demodulator. The
+    radio is the caller's: our emulator blocks here, GNU Radio's Soapy blocks in
+    gmsk_soapy_node.py."""
+    tb.framing = rfsitl.ubanc_framing(node_id, max_payload)
+    tb.net = network.socket_pdu("TCP_SERVER", bind, str(net_port), 10000, True)
+    tb.tx = GmskTx(samples_per_symbol, bt)
+    tb.rx = GmskRx(samples_per_symbol)
+    tb.msg_connect(tb.net, "pdus", tb.framing, "net_in")
+    tb.msg_connect(tb.framing, "net_out", tb.net, "pdus")
+    tb.msg_connect(tb.framing, "radio_out", tb.tx, "pdus")
+    tb.msg_connect(tb.rx, "pdus", tb.framing, "radio_in")
+    tb.connect(tb.tx, tb.sink)
+    tb.connect(tb.source, tb.rx)
+
+
 class GmskNode(gr.top_block):
     def __init__(self, socket_path, node_id, net_port, bind="127.0.0.1", timeout_ms=2000,
                  reconnect_ms=20000, samples_per_symbol=2, bt=0.35, max_payload=2048):
         gr.top_block.__init__(self, "gmsk_node_%d" % node_id)
         self.source = rfsitl.emulator_source(socket_path, node_id, timeout_ms, reconnect_ms)
         self.sink = rfsitl.emulator_sink(socket_path, node_id, LEN_KEY)
-        self.framing = rfsitl.ubanc_framing(node_id, max_payload)
-        self.net = network.socket_pdu("TCP_SERVER", bind, str(net_port), 10000, True)
-        self.tx = GmskTx(samples_per_symbol, bt)
-        self.rx = GmskRx(samples_per_symbol)
-        self.msg_connect(self.net, "pdus", self.framing, "net_in")
-        self.msg_connect(self.framing, "net_out", self.net, "pdus")
-        self.msg_connect(self.framing, "radio_out", self.tx, "pdus")
-        self.msg_connect(self.rx, "pdus", self.framing, "radio_in")
-        self.connect(self.tx, self.sink)
-        self.connect(self.source, self.rx)
+        wire_gmsk_node(self, node_id, net_port, bind, samples_per_symbol, bt, max_payload)
 
 
 def main(argv=None):

@@ -29,10 +29,10 @@ import sys
 import threading
 
 import SoapySDR
-from gnuradio import gr, network, rfsitl, soapy
+from gnuradio import gr, soapy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gmsk_node import GmskRx, GmskTx  # noqa: E402  (the example beside this one)
+from gmsk_node import wire_gmsk_node  # noqa: E402  (the example beside this one)
 
 
 class GmskSoapyNode(gr.top_block):
@@ -50,16 +50,7 @@ class GmskSoapyNode(gr.top_block):
         if frequency_hz is not None:  # default: the scenario's carrier
             self.source.set_frequency(0, frequency_hz)
             self.sink.set_frequency(0, frequency_hz)
-        self.framing = rfsitl.ubanc_framing(node_id, max_payload)
-        self.net = network.socket_pdu("TCP_SERVER", bind, str(net_port), 10000, True)
-        self.tx = GmskTx(samples_per_symbol, bt)
-        self.rx = GmskRx(samples_per_symbol)
-        self.msg_connect(self.net, "pdus", self.framing, "net_in")
-        self.msg_connect(self.framing, "net_out", self.net, "pdus")
-        self.msg_connect(self.framing, "radio_out", self.tx, "pdus")
-        self.msg_connect(self.rx, "pdus", self.framing, "radio_in")
-        self.connect(self.tx, self.sink)
-        self.connect(self.source, self.rx)
+        wire_gmsk_node(self, node_id, net_port, bind, samples_per_symbol, bt, max_payload)
 
         # The same device once more, for the `connected` sensor: SoapySDR hands
         # out the one the blocks hold. (The source block's read_sensor waits for
