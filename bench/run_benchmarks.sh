@@ -40,7 +40,7 @@
 #   ip        iperf3 TCP and UDP between two IP nodes per PHY and MAC beside the air-time and
 #             csma bounds (bench/ip_throughput.py; root, iperf3); not in the default list
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
-#   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64"
+#   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64 96 128 160"
 #   CAPF_NODES="32 48 64"
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
 #   MIX_SECONDS=0.2  OVL_SECONDS=60  FADING_FRAMES=20000  PORT_BASE=20000
@@ -56,7 +56,7 @@ if [ "$QUICK" = 1 ]; then
   D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAPF="16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
   D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15 D_FADING=2000 D_MAC_S=10
 else
-  D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64" D_CAPF="32 48 64"
+  D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64 96 128 160" D_CAPF="32 48 64"
   D_CAP_S=60
   D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000 D_MAC_S=60
 fi
