@@ -2,8 +2,7 @@
 // decodes played by the test, tick by tick.
 #include <gtest/gtest.h>
 
-#include <deque>
-
+#include "fake_frame_queue.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
 
 namespace rfsitl::mac {
@@ -11,16 +10,7 @@ namespace {
 
 constexpr std::size_t kTick = 100;
 
-class FakeQueue final : public FrameQueue {
- public:
-  const NetFrame* peek() override { return frames.empty() ? nullptr : &frames.front(); }
-  NetFrame take() override {
-    NetFrame f = std::move(frames.front());
-    frames.pop_front();
-    return f;
-  }
-  std::deque<NetFrame> frames;
-};
+using FakeQueue = testing::FakeFrameQueue;
 
 /// One node's csma MAC, its counters and its queue; time advances a tick per step.
 struct Station {

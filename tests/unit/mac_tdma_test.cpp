@@ -2,9 +2,9 @@
 // guard before it does; a slot too short for any frame is refused.
 #include <gtest/gtest.h>
 
-#include <deque>
 #include <stdexcept>
 
+#include "fake_frame_queue.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
 
 namespace rfsitl::mac {
@@ -12,16 +12,7 @@ namespace {
 
 constexpr std::size_t kTick = 100;
 
-class FakeQueue final : public FrameQueue {
- public:
-  const NetFrame* peek() override { return frames.empty() ? nullptr : &frames.front(); }
-  NetFrame take() override {
-    NetFrame f = std::move(frames.front());
-    frames.pop_front();
-    return f;
-  }
-  std::deque<NetFrame> frames;
-};
+using FakeQueue = testing::FakeFrameQueue;
 
 /// 1 Msps, 100-sample ticks, a frame of b radio bytes lasts 200 + 10 b samples.
 std::unique_ptr<Mac> tdma(std::size_t index, double slot_ms, double guard_us, MacCounters& counters,

@@ -105,26 +105,32 @@ class Mac {
   virtual std::optional<MacTransmission> on_tick(SampleTime now, bool tx_busy,
                                                  FrameQueue& queue) = 0;
 
+  // The calls below have no-op defaults: a MAC that neither listens nor
+  // acknowledges (none, tdma) overrides none of them.
+
   /// The transmission on_tick() asked for is on the air during [start, end).
-  virtual void on_sent(SampleTime start, SampleTime end) = 0;
+  virtual void on_sent(SampleTime /*start*/, SampleTime /*end*/) {}
 
   /// A frame that awaited its verdict got it during the last call (on_tick()
   /// for a give-up, on_control() for an ACK); cleared by reading.
-  virtual std::optional<Verdict> take_verdict() = 0;
+  virtual std::optional<Verdict> take_verdict() { return std::nullopt; }
 
   /// Carrier sense over the tick just received, once per tick after the
   /// receivers ran: `busy` when the node transmitted in it, or its receiver was
   /// inside a frame it detected, or heard energy over the MAC's threshold.
   /// Only called when carrier_sense_db() has a value.
-  virtual void on_sensed(bool busy) = 0;
+  virtual void on_sensed(bool /*busy*/) {}
 
   /// The receiver decoded a data frame from `src` with this MAC `header`,
   /// unicast to this node (`to_me`) or broadcast. `now`: the current tick.
-  virtual RxDecision on_data(NodeId src, std::span<const std::uint8_t> header, bool to_me,
-                             SampleTime now) = 0;
+  virtual RxDecision on_data(NodeId /*src*/, std::span<const std::uint8_t> /*header*/,
+                             bool /*to_me*/, SampleTime /*now*/) {
+    return {};
+  }
 
   /// The receiver decoded a MAC control frame from `src` addressed to this node.
-  virtual void on_control(NodeId src, std::span<const std::uint8_t> content, SampleTime now) = 0;
+  virtual void on_control(NodeId /*src*/, std::span<const std::uint8_t> /*content*/,
+                          SampleTime /*now*/) {}
 
   /// One line for the banner: the MAC and its times as really used.
   virtual std::string describe() const = 0;

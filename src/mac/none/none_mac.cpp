@@ -24,13 +24,6 @@ class NoneMac final : public Mac {
     return MacTransmission{frame_.kind, frame_.dst, &frame_, {}, false, false};
   }
 
-  void on_sent(SampleTime, SampleTime) override {}
-  std::optional<Verdict> take_verdict() override { return std::nullopt; }
-  void on_sensed(bool) override {}
-  RxDecision on_data(NodeId, std::span<const std::uint8_t>, bool, SampleTime) override {
-    return {};
-  }
-  void on_control(NodeId, std::span<const std::uint8_t>, SampleTime) override {}
   std::string describe() const override { return "none (send when the transmitter is idle)"; }
 
  private:

@@ -14,17 +14,6 @@
 namespace rfsitl::phy::ofdm::viterbi {
 namespace {
 
-/// +1 where the p0 branch into state 2i emits 0 on output A (resp. B), -1 where
-/// it emits 1: the factor _mm256_sign_epi16 applies to that symbol's LLR.
-template <unsigned (*Output)(unsigned)>
-constexpr std::array<std::int16_t, 32> even_state_signs() {
-  std::array<std::int16_t, 32> signs{};
-  for (unsigned i = 0; i < 32; ++i) signs[i] = Output(2 * i) != 0 ? -1 : 1;
-  return signs;
-}
-alignas(32) constexpr std::array<std::int16_t, 32> kSignA = even_state_signs<branch_a>();
-alignas(32) constexpr std::array<std::int16_t, 32> kSignB = even_state_signs<branch_b>();
-
 __attribute__((target("avx2"))) inline __m256i load(const std::int16_t* p) {
   return _mm256_load_si256(reinterpret_cast<const __m256i*>(p));
 }

@@ -13,17 +13,6 @@
 namespace rfsitl::phy::ofdm::viterbi {
 namespace {
 
-/// +1 where the p0 branch into state 2i emits 0 on that output, -1 where it
-/// emits 1: the factor (pmullw) that turns the symbol's LLR into its score.
-template <unsigned (*Output)(unsigned)>
-constexpr std::array<std::int16_t, 32> even_state_signs() {
-  std::array<std::int16_t, 32> signs{};
-  for (unsigned i = 0; i < 32; ++i) signs[i] = Output(2 * i) != 0 ? -1 : 1;
-  return signs;
-}
-alignas(16) constexpr std::array<std::int16_t, 32> kSignA = even_state_signs<branch_a>();
-alignas(16) constexpr std::array<std::int16_t, 32> kSignB = even_state_signs<branch_b>();
-
 __m128i load(const std::int16_t* p) {
   return _mm_load_si128(reinterpret_cast<const __m128i*>(p));
 }

@@ -3,6 +3,7 @@
 // 802.11 K = 7 (133, 171) code, the fixed-point ranges every kernel relies on,
 // and the add-compare-select kernels, one per instruction set, each in a file of
 // its own so that only that file's functions use the wider instructions.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
@@ -33,6 +34,18 @@ constexpr unsigned branch_a(unsigned s) {
 constexpr unsigned branch_b(unsigned s) {
   return parity7(s & kTapsB);
 }
+
+/// +1 where the p0 branch into even state 2i emits 0 on an output, -1 where it
+/// emits 1: the factor (AVX2 vpsignw, SSE2 pmullw) that turns the symbol's LLR
+/// into that branch's score, for i < 32.
+template <unsigned (*Output)(unsigned)>
+constexpr std::array<std::int16_t, 32> even_state_signs() {
+  std::array<std::int16_t, 32> signs{};
+  for (unsigned i = 0; i < 32; ++i) signs[i] = Output(2 * i) != 0 ? -1 : 1;
+  return signs;
+}
+alignas(32) inline constexpr std::array<std::int16_t, 32> kSignA = even_state_signs<branch_a>();
+alignas(32) inline constexpr std::array<std::int16_t, 32> kSignB = even_state_signs<branch_b>();
 
 // Fixed point. Path metrics are int16 correlations (to be maximized): a symbol
 // with quantized LLR l adds +l to a branch that emits 0 and -l to one that emits
