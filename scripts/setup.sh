@@ -21,6 +21,8 @@ PACKAGES=(
   iperf3
   # the SoapySDR module (driver=rfsitl, src/soapy/) and its test: headers, SoapySDRUtil, python
   libsoapysdr-dev soapysdr-tools python3-soapysdr
+  # distributed runs (mpirun -n K rfsitl run ...): Open MPI, its headers and launcher
+  libopenmpi-dev openmpi-bin
 )
 # Debian packages npm separately from nodejs; other nodejs builds bring their own.
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)

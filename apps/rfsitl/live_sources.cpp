@@ -9,13 +9,16 @@ namespace {
 constexpr const char* kLocationPort = scenario::PositionSourceChoice::kLocationPort;
 }
 
-LiveSources::LiveSources(const scenario::Scenario& s, const position::SourceContext& context)
-    : type_of_(s.nodes.size()) {
+LiveSources::LiveSources(const scenario::Scenario& s, const position::SourceContext& context,
+                         std::vector<bool> here)
+    : type_of_(s.nodes.size()), here_(std::move(here)) {
+  if (here_.empty()) here_.assign(s.nodes.size(), true);
   std::map<std::string, std::vector<position::SourceNode>> nodes_of;
   const auto* location_port = position::find_position_source(kLocationPort);
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const scenario::PositionSourceChoice choice = s.source_of(i);
     type_of_[i] = s.nodes[i].mobility ? "mobility" : choice.type;
+    if (!here_[i]) continue;
     // Every node's location port listens; with its own settings where the node
     // chose it.
     nodes_of[kLocationPort].push_back(
@@ -46,7 +49,7 @@ void LiveSources::stop() {
 }
 
 std::optional<position::SourceStatus> LiveSources::status(std::size_t index) const {
-  if (index >= type_of_.size()) return std::nullopt;
+  if (index >= type_of_.size() || !here_[index]) return std::nullopt;
   const std::string& type = type_of_[index];
   const auto& port = *sources_.at(kLocationPort);
   if (type == kLocationPort) {
@@ -61,6 +64,7 @@ std::optional<position::SourceStatus> LiveSources::status(std::size_t index) con
 }
 
 std::string LiveSources::location_port(std::size_t index) const {
+  if (!here_[index]) return "another rank's";
   return sources_.at(kLocationPort)->where(index);
 }
 

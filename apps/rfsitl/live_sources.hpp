@@ -15,9 +15,11 @@ namespace rfsitl::app {
 
 class LiveSources {
  public:
-  /// Builds the sources of a validated scenario. Throws std::invalid_argument
+  /// Builds the sources of a validated scenario, for the nodes `here` (all when
+  /// empty; in a distributed run, the rank's own). Throws std::invalid_argument
   /// naming the node whose settings cannot work (e.g. two nodes on one port).
-  LiveSources(const scenario::Scenario& s, const position::SourceContext& context);
+  LiveSources(const scenario::Scenario& s, const position::SourceContext& context,
+              std::vector<bool> here = {});
   ~LiveSources() { stop(); }
   LiveSources(const LiveSources&) = delete;
   LiveSources& operator=(const LiveSources&) = delete;
@@ -30,9 +32,10 @@ class LiveSources {
   void stop();
 
   /// Node `index`'s source status: its live source, or "mobility" (with the
-  /// location port's overrides). Thread-safe.
+  /// location port's overrides); nullopt for a node served elsewhere. Thread-safe.
   std::optional<position::SourceStatus> status(std::size_t index) const;
-  /// Where node `index`'s location port listens ("127.0.0.1:15776").
+  /// Where node `index`'s location port listens ("127.0.0.1:15776"), or
+  /// "another rank's".
   std::string location_port(std::size_t index) const;
   /// status() as the monitor takes it; valid while this object lives.
   position::SourceStatusFn status_fn() const {
@@ -41,6 +44,7 @@ class LiveSources {
 
  private:
   std::vector<std::string> type_of_;  // per node: its source's type, or "mobility"
+  std::vector<bool> here_;            // per node: served by this process
   std::map<std::string, std::unique_ptr<position::PositionSource>> sources_;
 };
 

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "distributed_run.hpp"
 #include "live_sources.hpp"
 #include "rfsitl/agent_port/ip_ports.hpp"
 #include "rfsitl/agent_port/net_ports.hpp"
@@ -155,6 +156,42 @@ scenario::Scenario build_scenario(const RunOptions& o) {
   }
   scenario::validate_scenario(s);
   return s;
+}
+
+/// What every rank of a distributed run must have been given alike: the
+/// scenario file's bytes and the options.
+std::string run_fingerprint(const RunOptions& o) {
+  std::string text;
+  if (!o.scenario_path.empty()) {
+    std::ifstream in(o.scenario_path, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const auto add = [&text](const std::string& v) { text += '\0' + v; };
+  add(std::to_string(o.nodes.value_or(0)));
+  for (const auto& v : o.settings) add(v.value_or("-"));
+  add(o.arch.value_or("-"));
+  add(o.mac.value_or("-"));
+  add(o.mavlink.value_or("-"));
+  add(std::to_string(o.ip) + std::to_string(o.no_skip) + std::to_string(o.shared_noise));
+  return text;
+}
+
+/// A rank whose peers stopped answering after it was told to stop: the
+/// counters of its own nodes so far, for the user to put together.
+void print_partial_summary(engine::Engine& e, const RunRanks& ranks) {
+  std::vector<NodeId> ids;
+  std::vector<engine::NodeCountersSnapshot> counters;
+  for (std::size_t i = 0; i < e.num_nodes(); ++i) {
+    if (!ranks.here(i)) continue;
+    ids.push_back(e.node_ids()[i]);
+    counters.push_back(e.counters(i).snapshot());
+  }
+  std::printf(
+      "\nrfsitl: rank %zu of %zu: the other ranks stopped answering (one of them failed?); the "
+      "counters of this rank's nodes at virtual %.3f s:\n%s",
+      ranks.rank, ranks.size, e.status().virtual_s,
+      monitor::node_counters_table(ids, counters).c_str());
+  std::fflush(stdout);
 }
 
 std::string format_position(const std::optional<Position>& p) {
@@ -326,6 +363,14 @@ int run(const RunOptions& o) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
     return 2;
   }
+  RunRanks ranks;
+  if (const auto why = start_ranks(s, run_fingerprint(o), s.ip.enabled, o.arch == "split", ranks)) {
+    std::fprintf(stderr, "rfsitl run: %s\n", why->c_str());
+    return 2;
+  }
+  // In a distributed run rank 0 speaks for the run: the banner, the stats,
+  // the summary and its JSON, the dashboard.
+  const bool speaks = ranks.rank == 0;
   std::string bind_address;
   try {
     bind_address = io::resolve_bind_address(s.ports.bind_address);
@@ -346,7 +391,7 @@ int run(const RunOptions& o) {
   // Output files are opened now: a path that cannot be written fails before
   // the run, not after it with the results lost.
   std::ofstream summary_out;
-  if (!o.summary_json.empty()) {
+  if (!o.summary_json.empty() && speaks) {
     summary_out.open(o.summary_json);
     if (!summary_out) {
       std::fprintf(stderr, "rfsitl run: --summary-json %s: cannot write: %s\n",
@@ -362,9 +407,10 @@ int run(const RunOptions& o) {
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-  agent_port::NetPortsConfig sc{bind_address, s.ports.net_base, {}};
+  agent_port::NetPortsConfig sc{bind_address, s.ports.net_base, {}, {}};
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     if (s.phy_of(i).external_program()) sc.external_net_ports.push_back(s.nodes[i].id);
+    if (!ranks.here(i)) sc.elsewhere.push_back(s.nodes[i].id);
   }
   auto servers = agent_port::make_net_ports(sc);
   // With IP, Ethernet frames go to the nodes' interfaces and the rest on to
@@ -389,13 +435,17 @@ int run(const RunOptions& o) {
   std::unique_ptr<LiveSources> sources;
   std::unique_ptr<monitor::Dashboard> dashboard;
   std::string drawn_token_url;
+  // A distributed run's ranks each trace their own nodes, into files of their own.
+  const std::string pcap_path =
+      ranks.distributed() ? rank_file_name(o.pcap_path, ranks.rank) : o.pcap_path;
   try {
     external = external::ExternalRuntime::create(s);
     engine = engine::make_engine(
-        s, sink, external ? external->transceiver_factory() : engine::TransceiverFactory{});
+        s, sink, external ? external->transceiver_factory() : engine::TransceiverFactory{},
+        ranks.distribution());
     if (!o.pcap_path.empty()) {
       pcap = monitor::make_pcap_trace(monitor::PcapTraceSettings{
-          o.pcap_path, static_cast<std::uint64_t>(o.pcap_max_mb * 1024 * 1024), o.pcap_files,
+          pcap_path, static_cast<std::uint64_t>(o.pcap_max_mb * 1024 * 1024), o.pcap_files,
           s.timing.sample_rate_hz, 10.0 * std::log10(std::max(s.channel.noise_variance, 1e-30))});
       engine->add_observer(*pcap);
     }
@@ -406,6 +456,7 @@ int run(const RunOptions& o) {
       if (ss.nodes.empty()) {
         for (const auto& n : s.nodes) ss.nodes.push_back(n.id);
       }
+      std::erase_if(ss.nodes, [&](NodeId id) { return !ranks.here(*engine->index_of(id)); });
       ss.start_s = o.sigmf_start_s;
       ss.duration_s = o.sigmf_duration_s;
       ss.max_bytes = static_cast<std::uint64_t>(o.sigmf_max_mb * 1024 * 1024);
@@ -413,9 +464,10 @@ int run(const RunOptions& o) {
       engine->add_observer(*sigmf);
     }
     sources =
-        std::make_unique<LiveSources>(s, position::SourceContext{bind_address, s.ports.loc_base});
+        std::make_unique<LiveSources>(s, position::SourceContext{bind_address, s.ports.loc_base},
+                                      ranks.here_mask(s.nodes.size()));
     sources->start(*engine);
-    if (!o.no_dashboard) {
+    if (!o.no_dashboard && speaks) {
       monitor::DashboardSettings ds;
       ds.bind_address = bind_address;
       ds.port = o.dashboard_port.value_or(ds.port);
@@ -440,10 +492,14 @@ int run(const RunOptions& o) {
       summary_out.close();
       std::remove(o.summary_json.c_str());
     }
-    if (pcap) std::remove(o.pcap_path.c_str());  // unlinked; the object closes it later
+    if (pcap) std::remove(pcap_path.c_str());  // unlinked; the object closes it later
     return 2;
   }
-  print_banner(s, sc, *sources, *engine);
+  if (speaks) print_banner(s, sc, *sources, *engine);
+  if (ranks.distributed() && speaks) {
+    std::fputs(describe_ranks(s, ranks).c_str(), stdout);
+    std::fflush(stdout);
+  }
   if (ipnet) print_ip_banner(*ipnet);
   if (dashboard) {
     const char* control = !o.dashboard_control ? "off; --dashboard-control allows it"
@@ -465,11 +521,16 @@ int run(const RunOptions& o) {
     print_summary(*engine);
     return 1;
   }
-  const std::size_t own_net_ports = s.nodes.size() - sc.external_net_ports.size();
-  std::printf("rfsitl: ready, listening on %zu net port(s) and %zu location port(s); %s\n",
-              own_net_ports, s.nodes.size(),
-              s.timing.duration_s > 0 ? "stops after the duration or at Ctrl-C" : "Ctrl-C to stop");
-  if (s.timing.mode == scenario::TimeMode::kVirtual) {
+  const std::size_t own_net_ports =
+      s.nodes.size() - sc.external_net_ports.size() - sc.elsewhere.size();
+  if (speaks) {
+    std::printf(
+        "rfsitl: ready, listening on %zu net port(s) and %zu location port(s)%s; %s\n",
+        own_net_ports, s.nodes.size() - sc.elsewhere.size(),
+        ranks.distributed() ? " on rank 0 (the others on theirs)" : "",
+        s.timing.duration_s > 0 ? "stops after the duration or at Ctrl-C" : "Ctrl-C to stop");
+  }
+  if (s.timing.mode == scenario::TimeMode::kVirtual && speaks) {
     // Virtual time does not wait for the wall clock, so live agents cannot keep
     // up with it: their frames enter at whatever tick the engine has reached.
     std::printf(
@@ -481,8 +542,14 @@ int run(const RunOptions& o) {
 
   std::atomic<bool> stop{false};
   std::atomic<bool> finished{false};
+  std::string engine_error;  // written by the engine's thread before `finished`
   std::thread engine_thread([&] {
-    engine->run(stop);
+    try {
+      engine->run(stop);
+    } catch (const std::exception& e) {
+      // A distributed run's exchange failed (the run cannot go on).
+      engine_error = e.what();
+    }
     finished.store(true);
   });
 
@@ -496,12 +563,30 @@ int run(const RunOptions& o) {
       break;
     }
     if (stats_every > 0 && engine->status().wall_s >= next_stats) {
-      print_stats_line(*engine);
+      if (speaks) print_stats_line(*engine);
       next_stats += stats_every;
     }
   }
   stop.store(true);
+  if (ranks.distributed()) {
+    // The ranks stop together at the next tick's exchange; a rank whose peers
+    // died waits there for ever (Open MPI does not survive a lost rank), so
+    // after a while it reports what it has and leaves.
+    for (int waited_ms = 0; !finished.load() && waited_ms < 10'000; waited_ms += 50) {
+      const timespec step{0, 50'000'000};
+      nanosleep(&step, nullptr);
+    }
+    if (!finished.load()) {
+      print_partial_summary(*engine, ranks);
+      std::_Exit(1);
+    }
+  }
   engine_thread.join();
+  if (!engine_error.empty()) {
+    std::fprintf(stderr, "rfsitl run: rank %zu: %s\n", ranks.rank, engine_error.c_str());
+    print_partial_summary(*engine, ranks);
+    std::_Exit(1);
+  }
   sources->stop();
   if (ipnet) ipnet->stop();
   servers->stop();
@@ -523,7 +608,14 @@ int run(const RunOptions& o) {
       }
     }
   }
+  if (!speaks) return 0;
   print_summary(*engine);
+  if (ranks.distributed()) {
+    const double tick_s = s.timing.tick_samples / s.timing.sample_rate_hz;
+    std::printf("distributed run, %zu ranks:\n%s", ranks.size,
+                rank_summary(*engine, tick_s).c_str());
+    std::fflush(stdout);
+  }
   if (external) print_external_summary(*external);
   if (summary_out.is_open()) {
     nlohmann::json j = monitor::stats_with_links_json(s, *engine, sources->status_fn());
@@ -532,6 +624,18 @@ int run(const RunOptions& o) {
     if (sigmf) j["sigmf"] = sigmf->summary();
     if (ipnet) j["ip"] = ipnet->summary();
     j["mac"] = {{"type", s.mac.type}, {"description", engine->mac_description(0)}};
+    if (ranks.distributed()) {
+      nlohmann::json per_rank = nlohmann::json::array();
+      for (const engine::RankStatus& r : engine->ranks()) {
+        per_rank.push_back({{"max_lag_s", r.max_lag_s},
+                            {"late_ticks", r.late_ticks},
+                            {"exchanged_bytes", r.exchanged_bytes},
+                            {"exchange_wall_s", r.exchange_wall_s},
+                            {"wall_s", r.wall_s}});
+      }
+      j["distributed"] = {
+          {"ranks", ranks.size}, {"owner_rank", ranks.owner}, {"per_rank", per_rank}};
+    }
     summary_out << monitor::json_text(j, 2) << "\n";
     summary_out.flush();
     if (!summary_out) {

@@ -148,6 +148,8 @@ class AsioNetPorts final : public NetPorts {
     for (std::size_t i = 0; i < ids.size(); ++i) {
       const auto& external = config_.external_net_ports;
       if (std::find(external.begin(), external.end(), ids[i]) != external.end()) continue;
+      const auto& elsewhere = config_.elsewhere;
+      if (std::find(elsewhere.begin(), elsewhere.end(), ids[i]) != elsewhere.end()) continue;
       const std::uint16_t number = net_port(config_, ids[i]);
       ports_[i] = std::make_unique<io::PortListener>(
           io_, config_.bind_address, io::PortName{"net", ids[i], number},

@@ -13,6 +13,7 @@
 #include "frame_kind.hpp"
 #include "mobility_driver.hpp"
 #include "node_state_inbox.hpp"
+#include "rank_link.hpp"
 #include "rfsitl/channel/channel.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
@@ -84,7 +85,8 @@ struct Node : phy::RxHandler, mac::FrameQueue {
   /// kWatched: the receiver is idle (skipped) but an observer wants its input,
   /// so the input is computed and the receiver is not run: watching changes no
   /// receiver's state, hence no outcome.
-  enum class RxTick { kRan, kSkipped, kBlanked, kWatched } rx_tick = RxTick::kRan;
+  /// kElsewhere: another rank of a distributed run owns the node.
+  enum class RxTick { kRan, kSkipped, kBlanked, kWatched, kElsewhere } rx_tick = RxTick::kRan;
   bool watched = false;  // an observer wants this tick's samples
   std::size_t index = 0;
   SampleTime tick_time = 0;
@@ -115,7 +117,8 @@ struct Node : phy::RxHandler, mac::FrameQueue {
 
 class LockStepEngine final : public Engine {
  public:
-  LockStepEngine(const scenario::Scenario& s, FrameSink& sink, const TransceiverFactory& factory)
+  LockStepEngine(const scenario::Scenario& s, FrameSink& sink, const TransceiverFactory& factory,
+                 Distribution distribution)
       : scenario_(s),
         sink_(sink),
         block_(s.timing.tick_samples),
@@ -133,6 +136,18 @@ class LockStepEngine final : public Engine {
         reporter_(scenario_, channel_),
         inbox_(s.nodes.size(), s.channel.origin) {
     const std::size_t n = s.nodes.size();
+    owned_.assign(n, true);
+    if (distribution.peers != nullptr) {
+      if (distribution.owner.size() != n) {
+        throw std::invalid_argument("distributed run: an owner rank is needed for every node");
+      }
+      link_.emplace(*distribution.peers, n, block_);
+      for (std::size_t i = 0; i < n; ++i) owned_[i] = distribution.owner[i] == link_->rank();
+      // Counters of other ranks' nodes are gathered every 0.1 s of virtual time.
+      merge_every_ = std::max<std::uint64_t>(
+          1,
+          static_cast<std::uint64_t>(0.1 * s.timing.sample_rate_hz / static_cast<double>(block_)));
+    }
     nodes_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       Node& node = nodes_[i];
@@ -185,7 +200,9 @@ class LockStepEngine final : public Engine {
                     counters_, [this](NodeId id) { return index_of(id); });
     ledger_->set_outcome_callback([this](const LedgerOutcome& o) {
       // A unicast frame is delivered by the decode that receives it: report the
-      // receiver's event first, then the outcome (see handle_decodes).
+      // receiver's event first, then the outcome (see replay). A rank reports
+      // the outcomes of its own nodes' frames.
+      if (!owned_[o.tx]) return;
       if (defer_outcomes_) {
         deferred_outcomes_.push_back(o);
       } else {
@@ -281,19 +298,34 @@ class LockStepEngine final : public Engine {
     st.receiver_ticks_skipped = rd(status_.receiver_ticks_skipped);
     st.receiver_ticks_blanked = rd(status_.receiver_ticks_blanked);
     st.mobility_wall_s = rd(status_.mobility_wall_s);
+    st.exchanged_bytes = rd(status_.exchanged_bytes);
+    st.exchange_wall_s = rd(status_.exchange_wall_s);
     return st;
+  }
+
+  bool owns(std::size_t node) const override { return owned_[node]; }
+
+  std::vector<RankStatus> ranks() const override {
+    std::lock_guard lock(snapshot_mutex_);
+    return ranks_snapshot_;
   }
 
   void run(const std::atomic<bool>& stop) override {
     const auto duration =
         static_cast<SampleTime>(scenario_.timing.duration_s * scenario_.timing.sample_rate_hz);
+    // Ranks start their clocks together (and are told to stop together, by
+    // the exchange of the tick where any one of them was).
+    if (link_) link_->barrier();
     clock_.start();
-    for (std::uint64_t k = 0; !stop.load(std::memory_order_relaxed); ++k) {
+    for (std::uint64_t k = 0; !stop_agreed_; ++k) {
       if (duration > 0 && now_ >= duration) break;
       clock_.wait_for_tick(k);
+      local_stop_ = stop.load(std::memory_order_relaxed);
+      if (!link_ && local_stop_) break;
       run_tick();
       publish_status();
     }
+    if (link_) merge_counters();
     publish_status();
   }
 
@@ -314,7 +346,7 @@ class LockStepEngine final : public Engine {
   void inject_traffic() {
     while (const auto t = traffic_.pop_due(now_)) {
       const auto node = index_of(t->src);
-      if (!node) continue;  // validated scenarios name only known sources
+      if (!node || !owned_[*node]) continue;  // validated scenarios name only known sources
       NetFrame frame{t->src, t->dst, std::vector<std::uint8_t>(t->size, 0)};
       for (std::size_t b = 0; b < t->size; ++b) {
         frame.payload[b] = static_cast<std::uint8_t>((t->repeat_index + b) & 0xFF);
@@ -328,10 +360,13 @@ class LockStepEngine final : public Engine {
   void apply_positions() {
     const double now_s = static_cast<double>(now_) / scenario_.timing.sample_rate_hz;
     channel_.set_clock(now_s);
-    bool moved = inbox_.apply(now_s, channel_);
+    // A distributed run applies what every rank took at the previous tick.
+    if (!link_) peer_updates_ = inbox_.take();
+    bool moved = inbox_.apply(peer_updates_, now_s, channel_);
+    peer_updates_.clear();
     // After the feeds: a modelled node follows its model again at each update.
     moved = mobility_.update(now_, channel_, [this](std::size_t node, const position::Velocity& v) {
-      inbox_.set_motion(node, {v, std::nullopt});
+      inbox_.set_motion_now(node, {v, std::nullopt});
     }) || moved;
     const bool turned = inbox_.motion_changed();
     if (moved || turned) {
@@ -446,6 +481,7 @@ class LockStepEngine final : public Engine {
     } else {
       for (std::size_t i = 0; i < nodes_.size(); ++i) tx_phase(i);
     }
+    if (link_) exchange_transmissions();
     record_transmissions();
     air_.on_air(now_, active_tx_);
     plan_receivers();
@@ -464,6 +500,7 @@ class LockStepEngine final : public Engine {
     handle_decodes();
     now_ += block_;
     ledger_->settle(now_, channel_);
+    if (link_ && ++ticks_since_merge_ >= merge_every_) merge_counters();
   }
 
   /// Per node, in parallel: the MAC may start a frame, then B samples. A
@@ -471,6 +508,12 @@ class LockStepEngine final : public Engine {
   /// handle_decodes().
   void tx_phase(std::size_t i) {
     Node& node = nodes_[i];
+    if (!owned_[i]) {
+      // Another rank's node: what it sends comes in exchange_transmissions().
+      node.tx_samples = 0;
+      node.active = false;
+      return;
+    }
     node.radio->begin_tick(static_cast<std::uint64_t>(now_) / block_, now_);
     node.queue_now = now_;
     const std::uint32_t frame_before = node.mac_frame;
@@ -536,7 +579,7 @@ class LockStepEngine final : public Engine {
         const TxRole role = frame.kind == FrameKind::kMacControl ? TxRole::kControl
                             : node.started_first_attempt         ? TxRole::kFirst
                                                                  : TxRole::kRepeat;
-        reporter_.transmitted(i, serial, frame, now_, node.started_len, role);
+        if (owned_[i]) reporter_.transmitted(i, serial, frame, now_, node.started_len, role);
         node.started.reset();
       } else if (node.active && now_ >= node.frame_end) {
         // Signal that no frame of ours explains: an external program transmits.
@@ -585,6 +628,10 @@ class LockStepEngine final : public Engine {
     busy_receivers_ = 0;
     for (const std::size_t m : tx_order_) {
       Node& node = nodes_[m];
+      if (!owned_[m]) {
+        node.rx_tick = Node::RxTick::kElsewhere;
+        continue;
+      }
       node.watched = reporter_.active() && reporter_.wants_samples(m, now_, block_);
       node.tick_time = now_;
       if (node.tx_samples > 0) node.receiver_blanked = true;
@@ -688,9 +735,16 @@ class LockStepEngine final : public Engine {
     node.radio->receive(y, node);
   }
 
+  /// Serially, after the RX phase: each own receiver's decodes go to its MAC
+  /// now (classify), and to the ledger and the agent in replay(); in a
+  /// distributed run every rank replays every rank's ledger ops, in node order,
+  /// so that every rank's ledger is the same.
   void handle_decodes() {
+    ops_.clear();
+    deliveries_.clear();
     for (std::size_t m = 0; m < nodes_.size(); ++m) {
       Node& node = nodes_[m];
+      if (node.rx_tick == Node::RxTick::kElsewhere) continue;
       if (node.rx_tick == Node::RxTick::kSkipped || node.rx_tick == Node::RxTick::kWatched) {
         ++skipped_ticks_;
       }
@@ -702,15 +756,18 @@ class LockStepEngine final : public Engine {
         reporter_.rx_samples(m, now_, node.rx);
       }
       if (node.busy_power) node.mac->on_sensed(node.sensed_busy);
-      for (Decoded& d : node.decoded) handle_decode(node, d);
+      for (Decoded& d : node.decoded) classify(node, d);
       node.decoded.clear();
     }
+    if (link_) link_->exchange_ops(ops_);
+    for (const LedgerOp& op : ops_) replay(op);
   }
 
-  /// One decode of receiver `node`, serially: the MAC's control frames go to
-  /// the MAC, data frames to the ledger, the MAC (repeats, ACKs) and the agent.
-  void handle_decode(Node& node, Decoded& d) {
-    const std::size_t m = node.index;
+  /// One decode of receiver `node`: the MAC's control frames go to the MAC,
+  /// data frames to the MAC (repeats, ACKs) and, through replay(), to the
+  /// ledger and the agent.
+  void classify(Node& node, Decoded& d) {
+    const auto m = static_cast<std::uint32_t>(node.index);
     // A kind byte this build does not know, or a frame too short for its
     // header, passed the CRC only if a transceiver garbled it: counted with
     // the failed decodes.
@@ -723,7 +780,8 @@ class LockStepEngine final : public Engine {
       if (d.tag.dst != node.id) return;  // overheard
       node.mac->on_control(d.tag.src, std::span(d.payload).subspan(kKindBytes), now_);
       if (const auto v = node.mac->take_verdict()) {
-        ledger_->on_frame_done(node.mac_frame, *v == mac::Verdict::kGaveUp);
+        ops_.push_back(
+            {m, LedgerOp::Kind::kFrameDone, *v == mac::Verdict::kGaveUp, node.mac_frame});
       }
       return;
     }
@@ -731,9 +789,6 @@ class LockStepEngine final : public Engine {
       NodeCounters::bump(counters_[m].rx_crc_failures);
       return;
     }
-    defer_outcomes_ = true;
-    const bool for_this_node = ledger_->on_decoded(d.tag.serial, m);
-    defer_outcomes_ = false;
     // The MAC judges by what its receiver decoded (the frame's own addresses),
     // the ledger only keeps the books.
     const bool to_me = d.tag.dst == node.id;
@@ -744,15 +799,123 @@ class LockStepEngine final : public Engine {
                  : std::span<const std::uint8_t>();
       decision = node.mac->on_data(d.tag.src, mac_header, to_me, now_);
     }
-    if (for_this_node && decision.deliver) {
-      NodeCounters::bump(counters_[m].received);
+    const std::uint32_t serial = d.tag.serial;
+    deliveries_.push_back(Delivery{std::move(d), header, decision.deliver});
+    ops_.push_back({m, LedgerOp::Kind::kDecoded, false, serial, deliveries_.size() - 1});
+  }
+
+  /// What the ledger learns, in the same order on every rank; a decode of an
+  /// own receiver that the ledger finds addressed to it, and its MAC lets
+  /// through, goes to the agent.
+  void replay(const LedgerOp& op) {
+    if (op.kind == LedgerOp::Kind::kFrameDone) {
+      ledger_->on_frame_done(op.id, op.gave_up);
+      return;
+    }
+    defer_outcomes_ = true;
+    const bool for_this_node = ledger_->on_decoded(op.id, op.node);
+    defer_outcomes_ = false;
+    if (op.delivery != LedgerOp::kNoDelivery && for_this_node && deliveries_[op.delivery].deliver) {
+      Delivery& delivery = deliveries_[op.delivery];
+      Decoded& d = delivery.decoded;
+      NodeCounters::bump(counters_[op.node].received);
       NetFrame frame{d.tag.src, d.tag.dst, std::move(d.payload)};
-      if (typed_) strip_header(frame, header);
-      reporter_.received(m, d.tag, frame, now_);
-      sink_.deliver(m, std::move(frame));
+      if (typed_) strip_header(frame, delivery.header);
+      reporter_.received(op.node, d.tag, frame, now_);
+      sink_.deliver(op.node, std::move(frame));
     }
     for (const LedgerOutcome& o : deferred_outcomes_) reporter_.outcome(o, now_);
     deferred_outcomes_.clear();
+  }
+
+  /// Distributed run, after the TX phase: tells the other ranks what this
+  /// rank's nodes did (verdicts, frames started, samples) and the positions
+  /// it was told, and takes theirs into the nodes they own.
+  void exchange_transmissions() {
+    TxMessage mine;
+    mine.stop = local_stop_;
+    mine.updates = inbox_.take();
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      const Node& node = nodes_[i];
+      if (!owned_[i] || (!node.active && !node.verdict && !node.started)) continue;
+      TxReport t;
+      t.node = static_cast<std::uint32_t>(i);
+      t.tx_samples = static_cast<std::uint32_t>(node.tx_samples);
+      if (node.verdict) {
+        t.has_verdict = true;
+        t.verdict_frame = node.verdict->frame;
+        t.gave_up = node.verdict->verdict == mac::Verdict::kGaveUp;
+      }
+      if (node.started) {
+        t.started = true;
+        t.serial = node.started->first;
+        t.dst = node.started->second.dst;
+        t.kind = static_cast<std::uint8_t>(node.started->second.kind);
+        t.started_len = static_cast<std::uint32_t>(node.started_len);
+        t.awaits_verdict = node.started_awaits_verdict;
+        t.first_attempt = node.started_first_attempt;
+        t.mac_frame = node.mac_frame;
+      }
+      mine.reports.push_back(t);
+      mine.samples.emplace_back(node.tx.data(), node.tx_samples);
+    }
+    const std::vector<TxMessageView>& all = link_->exchange_tx(mine);
+    for (std::size_t r = 0; r < all.size(); ++r) {
+      stop_agreed_ = stop_agreed_ || all[r].stop;
+      peer_updates_.insert(peer_updates_.end(), all[r].updates.begin(), all[r].updates.end());
+      if (r == link_->rank()) continue;
+      for (std::size_t k = 0; k < all[r].reports.size(); ++k) take_report(r, k, all[r].reports[k]);
+    }
+  }
+
+  /// Another rank's node `t.node` as this tick's TX phase left it there.
+  void take_report(std::size_t rank, std::size_t k, const TxReport& t) {
+    Node& node = nodes_[t.node];
+    if (owned_[t.node]) {
+      throw std::runtime_error("tick exchange: rank " + std::to_string(rank) +
+                               " reports node index " + std::to_string(t.node) + ", owned here");
+    }
+    node.tx_samples = t.tx_samples;
+    node.active = t.tx_samples > 0;
+    link_->copy_samples(rank, k, node.tx.data());
+    // The owner's transceiver left zeros after its signal (tx_samples).
+    std::fill(node.tx.begin() + t.tx_samples, node.tx.end(), cf32{});
+    if (t.has_verdict) {
+      node.verdict = PendingVerdict{
+          t.verdict_frame, t.gave_up ? mac::Verdict::kGaveUp : mac::Verdict::kAcknowledged};
+    }
+    if (t.started) {
+      node.started_len = t.started_len;
+      node.started_awaits_verdict = t.awaits_verdict;
+      node.started_first_attempt = t.first_attempt;
+      node.mac_frame = t.mac_frame;
+      NetFrame frame{node.id, t.dst, {}, static_cast<FrameKind>(t.kind)};
+      node.started.emplace(t.serial, std::move(frame));
+    }
+  }
+
+  /// Distributed run: every rank takes the owners' counters of the nodes it
+  /// does not own (collective), and every rank's figures.
+  void merge_counters() {
+    ticks_since_merge_ = 0;
+    std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>> own;
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      if (owned_[i]) own.emplace_back(static_cast<std::uint32_t>(i), counters_[i].snapshot());
+    }
+    const RankFigures mine{clock_.max_lag_s(), clock_.late_ticks(), link_->bytes_sent(),
+                           link_->wall_s(), clock_.elapsed_wall_s()};
+    std::vector<RankFigures> figures;
+    std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>> all;
+    link_->exchange_counters(mine, own, figures, all);
+    for (const auto& [node, snapshot] : all) {
+      if (!owned_[node]) counters_[node].assign(snapshot);
+    }
+    std::vector<RankStatus> ranks;
+    for (const RankFigures& f : figures) {
+      ranks.push_back({f.max_lag_s, f.late_ticks, f.exchanged_bytes, f.exchange_wall_s, f.wall_s});
+    }
+    std::lock_guard lock(snapshot_mutex_);
+    ranks_snapshot_ = std::move(ranks);
   }
 
   /// Every node's MAC (the scenario's), after the transceivers exist.
@@ -805,6 +968,10 @@ class LockStepEngine final : public Engine {
     wr(status_.receiver_ticks_run, run_ticks_);
     wr(status_.receiver_ticks_skipped, skipped_ticks_);
     wr(status_.receiver_ticks_blanked, blanked_ticks_);
+    if (link_) {
+      wr(status_.exchanged_bytes, link_->bytes_sent());
+      wr(status_.exchange_wall_s, link_->wall_s());
+    }
   }
 
   scenario::Scenario scenario_;
@@ -836,7 +1003,7 @@ class LockStepEngine final : public Engine {
   std::uint64_t blanked_ticks_ = 0;
 
   EventReporter reporter_;
-  bool defer_outcomes_ = false;
+  bool defer_outcomes_ = false;  // replay(): outcomes wait until the decode is reported
   std::vector<LedgerOutcome> deferred_outcomes_;
   mutable std::mutex snapshot_mutex_;
   std::vector<std::optional<Ecef>> positions_snapshot_;
@@ -872,14 +1039,35 @@ class LockStepEngine final : public Engine {
     std::atomic<std::uint64_t> receiver_ticks_skipped{0};
     std::atomic<std::uint64_t> receiver_ticks_blanked{0};
     std::atomic<double> mobility_wall_s{0.0};
+    std::atomic<std::uint64_t> exchanged_bytes{0};
+    std::atomic<double> exchange_wall_s{0.0};
   } status_;
+
+  // Distributed run (make_engine's Distribution); in one process link_ is
+  // empty and every node is owned.
+  std::vector<bool> owned_;
+  std::optional<RankLink> link_;
+  bool local_stop_ = false;                // this rank was told to stop
+  bool stop_agreed_ = false;               // some rank was: every rank stops after this tick
+  std::vector<StateUpdate> peer_updates_;  // applied at the next tick's start
+  std::uint64_t merge_every_ = 0;          // ticks between counter merges
+  std::uint64_t ticks_since_merge_ = 0;
+  std::vector<RankStatus> ranks_snapshot_;  // under snapshot_mutex_
+  /// A decode handed to the ledger by replay(), and to the agent if addressed.
+  struct Delivery {
+    Decoded decoded;
+    std::size_t header;  // bytes of kind and MAC header before the payload
+    bool deliver;        // the MAC lets it through (not a duplicate)
+  };
+  std::vector<Delivery> deliveries_;
+  std::vector<LedgerOp> ops_;
 };
 
 }  // namespace
 
 std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink,
-                                    TransceiverFactory factory) {
-  return std::make_unique<LockStepEngine>(scenario, sink, factory);
+                                    TransceiverFactory factory, Distribution distribution) {
+  return std::make_unique<LockStepEngine>(scenario, sink, factory, std::move(distribution));
 }
 
 }  // namespace rfsitl::engine

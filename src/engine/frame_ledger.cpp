@@ -35,6 +35,24 @@ NodeCountersSnapshot NodeCounters::snapshot() const {
   return s;
 }
 
+void NodeCounters::assign(const NodeCountersSnapshot& s) {
+  const auto wr = [](std::atomic<std::uint64_t>& a, std::uint64_t v) {
+    a.store(v, std::memory_order_relaxed);
+  };
+  wr(handed_in, s.handed_in);
+  wr(queue_dropped, s.queue_dropped);
+  wr(transmitted, s.transmitted);
+  wr(delivered, s.delivered);
+  for (std::size_t i = 0; i < kNumLossReasons; ++i) wr(lost[i], s.lost[i]);
+  wr(received, s.received);
+  wr(rx_crc_failures, s.rx_crc_failures);
+  wr(framing_errors, s.framing_errors);
+  wr(ip_refused, s.ip_refused);
+  wr(to_agent_dropped, s.to_agent_dropped);
+  wr(external_stalls, s.external_stalls);
+  mac.assign(s.mac);
+}
+
 FrameLedger::FrameLedger(LedgerConfig config, std::span<NodeCounters> counters,
                          std::function<std::optional<std::size_t>(NodeId)> index_of_id)
     : config_(config), counters_(counters), index_of_id_(std::move(index_of_id)) {}

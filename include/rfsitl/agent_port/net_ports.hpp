@@ -19,6 +19,8 @@ struct NetPortsConfig {
   /// Nodes whose net port another program serves (external transceivers that
   /// own their net port): no net port is opened for them here.
   std::vector<NodeId> external_net_ports;
+  /// Nodes another rank of a distributed run serves: no net port here either.
+  std::vector<NodeId> elsewhere;
 };
 
 /// Owns the listening sockets and the I/O thread. Frames decoded by the engine

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "rfsitl/cluster/peers.hpp"
 #include "rfsitl/common/net_frame.hpp"
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/engine/engine_observer.hpp"
@@ -41,6 +42,28 @@ struct EngineStatus {
   std::uint64_t receiver_ticks_skipped = 0;  ///< receiver-ticks skipped as silent
   std::uint64_t receiver_ticks_blanked = 0;  ///< receiver-ticks wholly blanked by own TX
   double mobility_wall_s = 0.0;              ///< wall seconds spent evaluating mobility models
+  std::uint64_t exchanged_bytes = 0;  ///< distributed run: bytes this rank sent to the others
+  double exchange_wall_s = 0.0;       ///< distributed run: wall seconds in the exchanges
+};
+
+/// A rank of a distributed run, as its figures were last gathered.
+struct RankStatus {
+  double max_lag_s = 0.0;
+  std::uint64_t late_ticks = 0;
+  std::uint64_t exchanged_bytes = 0;
+  double exchange_wall_s = 0.0;
+  double wall_s = 0.0;
+};
+
+/// How a distributed run shares its nodes (cluster/node_assignment.hpp). Each
+/// rank runs an engine for the whole scenario that transmits and receives
+/// only for its own nodes and exchanges the rest with its peers every tick;
+/// every rank keeps the whole channel, positions and frame ledger, so that the
+/// outcomes are those of one process. The counters of other ranks' nodes are
+/// gathered every 0.1 s of virtual time and at the end.
+struct Distribution {
+  cluster::Peers* peers = nullptr;  ///< nullptr: one process, every node its own
+  std::vector<std::size_t> owner;   ///< owner rank of each node, by index
 };
 
 /// Also the sink of the live position sources (position_source.hpp): a report
@@ -110,6 +133,14 @@ class Engine : public position::PositionSink {
   /// Thread-safe views of the accounting and progress.
   virtual NodeCounters& counters(std::size_t node) = 0;
   virtual EngineStatus status() const = 0;
+
+  /// Distributed run: whether this rank owns node `node` (its ports, source,
+  /// MAC and transceiver run here). Always true in one process.
+  virtual bool owns(std::size_t node) const = 0;
+
+  /// Distributed run: every rank's figures as last gathered (empty in one
+  /// process). Thread-safe.
+  virtual std::vector<RankStatus> ranks() const = 0;
 };
 
 /// Builds node `index`'s transceiver from its PHY settings (the split
@@ -121,7 +152,11 @@ using TransceiverFactory = std::function<std::unique_ptr<phy::Transceiver>(
 /// Builds the engine for a validated scenario. Transceivers come from `factory`,
 /// or from the PHY registry when it is empty. Throws std::invalid_argument on
 /// settings the PHY rejects (and for external nodes without a factory).
+/// `distribution`: this process is one rank of a distributed run; run() is
+/// then collective (every rank calls it, and every rank stops at the tick
+/// where any one of them was told to).
 std::unique_ptr<Engine> make_engine(const scenario::Scenario& scenario, FrameSink& sink,
-                                    TransceiverFactory factory = {});
+                                    TransceiverFactory factory = {},
+                                    Distribution distribution = {});
 
 }  // namespace rfsitl::engine

@@ -68,6 +68,9 @@ struct NodeCounters {
 
   static void bump(std::atomic<std::uint64_t>& c) { c.fetch_add(1, std::memory_order_relaxed); }
   NodeCountersSnapshot snapshot() const;
+  /// Every counter set to `s`'s (a distributed run's counters of a node that
+  /// another rank owns); queue_depth is not a counter and is left out.
+  void assign(const NodeCountersSnapshot& s);
 };
 
 }  // namespace rfsitl::engine

@@ -33,6 +33,20 @@ struct MacCounters {
     c.fetch_add(by, std::memory_order_relaxed);
   }
 
+  void assign(const MacCountersSnapshot& s) {
+    const auto wr = [](std::atomic<std::uint64_t>& a, std::uint64_t v) {
+      a.store(v, std::memory_order_relaxed);
+    };
+    wr(retries, s.retries);
+    wr(ack_timeouts, s.ack_timeouts);
+    wr(retry_drops, s.retry_drops);
+    wr(duplicates, s.duplicates);
+    wr(control_sent, s.control_sent);
+    wr(backoff_slots, s.backoff_slots);
+    wr(busy_ticks, s.busy_ticks);
+    wr(sensed_ticks, s.sensed_ticks);
+  }
+
   MacCountersSnapshot snapshot() const {
     const auto rd = [](const std::atomic<std::uint64_t>& a) {
       return a.load(std::memory_order_relaxed);

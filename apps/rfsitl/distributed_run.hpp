@@ -1,0 +1,49 @@
+#pragma once
+/// `mpirun -n K rfsitl run ...`: what `rfsitl run` does differently as one
+/// rank of a distributed run (README, "Distributed runs").
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rfsitl/cluster/peers.hpp"
+#include "rfsitl/engine/engine.hpp"
+#include "rfsitl/scenario/scenario.hpp"
+
+namespace rfsitl::app {
+
+/// This process's part of the run: every node its own without mpirun.
+struct RunRanks {
+  std::unique_ptr<cluster::Peers> peers;  ///< nullptr: one process
+  std::vector<std::size_t> owner;         ///< owner rank of each node (empty: one process)
+  std::size_t rank = 0;
+  std::size_t size = 1;
+
+  bool distributed() const { return peers != nullptr; }
+  bool here(std::size_t node) const { return owner.empty() || owner[node] == rank; }
+  /// here() for every node, as LiveSources takes it.
+  std::vector<bool> here_mask(std::size_t nodes) const;
+  engine::Distribution distribution() const { return {peers.get(), owner}; }
+};
+
+/// Under mpirun: starts MPI, checks that every rank was given the same
+/// scenario and flags (`fingerprint`: the scenario file's bytes and the
+/// options), refuses what a distributed run cannot do yet (each with its own
+/// message), and shares the nodes out. Every rank reaches the same verdict.
+/// Returns the error to print and exit 2 with, or nullopt. Without mpirun it
+/// does nothing.
+std::optional<std::string> start_ranks(const scenario::Scenario& s, const std::string& fingerprint,
+                                       bool ip, bool split, RunRanks& ranks);
+
+/// `path` with ".rankR" before its extension ("run.pcapng" -> "run.rank1.pcapng").
+std::string rank_file_name(const std::string& path, std::size_t rank);
+
+/// The lines that say how the run is shared: one per rank, rank 0's banner.
+std::string describe_ranks(const scenario::Scenario& s, const RunRanks& ranks);
+
+/// After the run, on rank 0: one line per rank (worst lag, bytes sent per
+/// tick, time in the exchanges).
+std::string rank_summary(const engine::Engine& e, double tick_s);
+
+}  // namespace rfsitl::app

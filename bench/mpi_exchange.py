@@ -1,0 +1,112 @@
+#!/usr/bin/python3
+"""What a distributed run costs (issue: runs across machines on MPI), printed,
+not asserted: for N nodes and K ranks (mpirun, oversubscribed on this
+machine), a virtual-time run of the default formation where every node sends
+an 80-byte GMSK frame to a random other node every `--interval` seconds; per
+run: wall time per tick, the bytes each rank sends per tick (from the
+summary's `distributed.per_rank`), the share of wall time in the exchanges,
+and the same run in one process (K = 0: no mpirun) for the baseline. Then the
+model of bytes and time per tick, extrapolated (see the README section
+"Distributed runs" for its assumptions).
+
+    RFSITL_BIN=build/release/apps/rfsitl /usr/bin/python3 bench/mpi_exchange.py \\
+        [--nodes 16,32,64] [--ranks 0,1,2,4] [--seconds 2]
+"""
+
+import argparse
+import json
+import os
+import random
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+BIN = os.environ.get("RFSITL_BIN", os.path.join(HERE, "..", "build", "release", "apps", "rfsitl"))
+MPI_FLAGS = ["--oversubscribe", "--allow-run-as-root", "--mca", "btl", "self,vader,tcp",
+             "--bind-to", "none"]
+
+
+def scenario(n, seconds, interval, seed=5):
+    rng = random.Random(seed)
+    lines = [f"name: mpi-bench-{n}", "seed: 3", f"time: {{mode: virtual, duration_s: {seconds}}}",
+             f"nodes: {n}", "traffic:"]
+    for src in range(1, n + 1):
+        dst = rng.choice([d for d in range(1, n + 1) if d != src])
+        lines.append(f"  - {{at_s: {rng.uniform(0.01, interval):.4f}, src: {src}, dst: {dst}, "
+                     f"size_bytes: 80, repeat: {int(seconds / interval)}, interval_s: {interval}}}")
+    return "\n".join(lines) + "\n"
+
+
+def run(d, n, k, seconds, interval, base):
+    path = os.path.join(d, f"s{n}.yaml")
+    with open(path, "w") as f:
+        f.write(scenario(n, seconds, interval))
+    summary = os.path.join(d, f"n{n}k{k}.json")
+    cmd = [BIN, "run", path, "--no-dashboard", "--summary-json", summary,
+           "--net-base", str(base), "--loc-base", str(base + 3), "--stats-interval", "0"]
+    if k > 0:
+        cmd = ["mpirun", "-n", str(k), *MPI_FLAGS, *cmd]
+    t0 = time.monotonic()
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=1800)
+    wall = time.monotonic() - t0
+    if r.returncode != 0:
+        sys.exit(f"N={n} K={k}: exit {r.returncode}\n{r.stdout[-2000:]}\n{r.stderr[-2000:]}")
+    with open(summary) as f:
+        j = json.load(f)
+    return j, wall
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--nodes", default="16,32,64")
+    ap.add_argument("--ranks", default="0,1,2,4")
+    ap.add_argument("--seconds", type=float, default=2.0)
+    ap.add_argument("--interval", type=float, default=0.05,
+                    help="seconds between a node's frames (0.05: 20 frames/s per node)")
+    a = ap.parse_args()
+    if shutil.which("mpirun") is None:
+        sys.exit("mpirun not found: apt-get install openmpi-bin libopenmpi-dev (scripts/setup.sh)")
+    fs, tick = 1e6, 250  # the defaults
+    ticks = a.seconds * fs / tick
+    print(f"virtual {a.seconds} s, {ticks:.0f} ticks of {tick} samples at 1 Msps, GMSK, every node "
+          f"one 80-byte frame per {a.interval} s to a random node; {os.cpu_count()} cores")
+    print("| N | K | wall s | ms per tick | B sent per tick per rank (mean) | in exchanges | "
+          "delivered |")
+    print("|---|---|---|---|---|---|---|")
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        base = 41000
+        for n in [int(x) for x in a.nodes.split(",")]:
+            for k in [int(x) for x in a.ranks.split(",")]:
+                j, wall = run(d, n, k, a.seconds, a.interval, base)
+                base += 10 * n + 100
+                per_rank = j.get("distributed", {}).get("per_rank", [])
+                sent = (sum(p["exchanged_bytes"] for p in per_rank) / len(per_rank) / ticks
+                        if per_rank else 0.0)
+                share = (sum(p["exchange_wall_s"] / p["wall_s"] for p in per_rank) / len(per_rank)
+                         if per_rank else 0.0)
+                delivered = sum(x["delivered"] for x in j["nodes"])
+                wall_s = j["virtual_s"] if False else wall
+                rows.append((n, k, wall_s, sent, share))
+                print(f"| {n} | {k or '1 (no mpirun)'} | {wall_s:.2f} | {1e3 * wall_s / ticks:.3f} | "
+                      f"{sent:.0f} | {100 * share:.0f} % | {delivered} |", flush=True)
+    # The model: an all-gather moves each transmitter's samples to the K - 1
+    # other ranks; 8 bytes per complex sample.
+    print()
+    print("model: bytes received per rank per tick = active transmitters x B x 8 B x (K - 1) / K "
+          "... each rank sends its own transmitters' samples to K - 1 ranks")
+    for name, bw, lat in (("10 GbE (TCP)", 1.25e9, 30e-6), ("InfiniBand HDR", 25e9, 2e-6)):
+        n, k, b = 1000, 16, 250
+        active = 0.1 * n  # a tenth of the nodes on the air in a tick
+        bytes_tick = active * b * 8 * (k - 1) / k  # arriving at each rank
+        t = bytes_tick / bw + 4 * 2 * lat  # log2(16) = 4 stages, 2 exchanges per tick
+        print(f"  1000 nodes on 16 hosts over {name}: {bytes_tick / 1e3:.0f} kB per rank per tick, "
+              f"{1e6 * t:.0f} us per tick in exchanges, against a tick of {1e6 * b / fs:.0f} us at "
+              f"1 Msps")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,29 @@
+#pragma once
+/// Open MPI, used only when the process was started by mpirun: a run in one
+/// process initialises nothing and pays nothing.
+#include <memory>
+#include <string>
+
+#include "rfsitl/cluster/peers.hpp"
+
+namespace rfsitl::cluster {
+
+/// True when mpirun (Open MPI's launcher, or another PMIx one) started this
+/// process: it sets OMPI_COMM_WORLD_SIZE or PMIX_RANK in the environment.
+bool launched_by_mpirun();
+
+/// Whether this build can run under MPI (Open MPI's development files were
+/// found when it was configured).
+bool mpi_available();
+
+/// Initialises MPI (thread level serialized: the engine's thread makes the
+/// exchanges, the main thread starts and ends) and returns the run's peers
+/// over MPI_COMM_WORLD; MPI is finalised when the object is destroyed.
+/// Call once per process. Throws std::runtime_error when MPI cannot start or
+/// this build has no MPI (naming the package to install).
+std::unique_ptr<Peers> start_mpi();
+
+/// The host this rank runs on (MPI_Get_processor_name), for messages.
+std::string host_name();
+
+}  // namespace rfsitl::cluster

@@ -1,0 +1,127 @@
+"""A distributed run (`mpirun -n K rfsitl run ...`, Open MPI, oversubscribed on
+this machine) gives the per-node counters of one process: a seeded
+virtual-time run with traffic, collisions, moving nodes and frames decided by
+the noise. Also: ranks given different scenarios are refused, and what a
+distributed run does not do yet is refused with its reason.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+from harness import BIN, assert_accounted, pick_port_bases
+
+MPIRUN = shutil.which("mpirun")
+# As root (CI), Open MPI wants both flags; oversubscribe: more ranks than cores.
+MPI_FLAGS = ["--oversubscribe", "--allow-run-as-root", "--mca", "btl", "self,vader,tcp",
+             "--bind-to", "none"]
+HERE = os.path.dirname(os.path.abspath(__file__))
+# Open MPI keeps memory until exit on purpose; with its components kept loaded
+# their frames have names, which lsan_openmpi.supp names (ASan builds only).
+MPI_ENV = dict(os.environ, OMPI_MCA_mca_base_component_disable_dlclose="1",
+               LSAN_OPTIONS=f"suppressions={HERE}/lsan_openmpi.supp:print_suppressions=0",
+               ASAN_OPTIONS=os.environ.get("ASAN_OPTIONS", "detect_leaks=1:abort_on_error=1")
+               + ":fast_unwind_on_malloc=0")
+SCENARIO = """name: mpi-test
+seed: 11
+time: {mode: virtual, duration_s: 1.0}
+channel: {noise_power_db: -93}
+engine: {mobility_update_s: 0.01}
+nodes:
+  - {id: 1, position: {x: 0, y: 0, z: 10}}
+  - {id: 2, position: {x: 30, y: 0, z: 10}}
+  - {id: 3, mobility: {type: orbit, centre_x_m: 20, radius_m: 40, speed_mps: 30, altitude_m: 10}}
+  - {id: 4, position: {x: 25, y: 25, z: 10}}
+  - {id: 5, mobility: {type: orbit, centre_x_m: -10, radius_m: 60, speed_mps: 20, altitude_m: 20, phase_rad: 2}}
+  - {id: 6, position: {x: 0, y: 40, z: 10}}
+traffic:
+  - {at_s: 0.01, src: 1, dst: 2, size_bytes: 80, repeat: 60, interval_s: 0.013}
+  - {at_s: 0.015, src: 4, dst: 3, size_bytes: 120, repeat: 60, interval_s: 0.011}
+  - {at_s: 0.02, src: 2, dst: 4, size_bytes: 60, repeat: 60, interval_s: 0.0097}
+  - {at_s: 0.03, src: 3, dst: 255, size_bytes: 40, repeat: 40, interval_s: 0.017}
+  - {at_s: 0.01, src: 5, dst: 6, size_bytes: 80, repeat: 60, interval_s: 0.013}
+  - {at_s: 0.012, src: 6, dst: 1, size_bytes: 80, repeat: 60, interval_s: 0.015}
+"""
+COMPARED = ("handed_in", "transmitted", "delivered", "lost", "received", "rx_crc_failures")
+NODES = {i: None for i in range(1, 7)}
+
+
+def write(d, text, name="s.yaml"):
+    path = os.path.join(d, name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def run(d, name, ranks, scenario=SCENARIO, extra=()):
+    """ranks 0: one process without mpirun. Returns (process, summary or None)."""
+    net_base, loc_base = pick_port_bases(NODES)
+    path = write(d, scenario)
+    summary = os.path.join(d, f"{name}.json")
+    cmd = [BIN, "run", path, "--net-base", str(net_base), "--loc-base", str(loc_base),
+           "--no-dashboard", "--summary-json", summary, *extra]
+    if ranks > 0:
+        cmd = [MPIRUN, "-n", str(ranks), *MPI_FLAGS, *cmd]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=MPI_ENV)
+    if not os.path.exists(summary):
+        return r, None
+    with open(summary) as f:
+        return r, json.load(f)
+
+
+@unittest.skipIf(MPIRUN is None, "Open MPI's mpirun is not installed (scripts/setup.sh)")
+class MpiTest(unittest.TestCase):
+    def test_ranks_give_the_counters_of_one_process(self):
+        with tempfile.TemporaryDirectory() as d:
+            r, one = run(d, "one", 0)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            assert_accounted(self, one)
+            total = lambda key: sum(n[key] for n in one["nodes"])
+            lost = lambda reason: sum(n["lost"][reason] for n in one["nodes"])
+            self.assertGreater(total("delivered"), 30)
+            self.assertGreater(lost("collision"), 0)
+            self.assertGreater(lost("below_sensitivity") + lost("decode_failure"), 10)
+            for ranks in (2, 4):
+                with self.subTest(ranks=ranks):
+                    r, many = run(d, f"ranks{ranks}", ranks)
+                    self.assertEqual(r.returncode, 0, r.stdout[-3000:] + r.stderr[-3000:])
+                    self.assertIn(f"distributed run on {ranks} ranks", r.stdout)
+                    self.assertEqual(many["distributed"]["ranks"], ranks)
+                    self.assertEqual(len(many["distributed"]["per_rank"]), ranks)
+                    # Every rank owns some node, and every node one rank.
+                    self.assertEqual(sorted(set(many["distributed"]["owner_rank"])),
+                                     list(range(ranks)))
+                    for a, b in zip(one["nodes"], many["nodes"]):
+                        for key in COMPARED:
+                            self.assertEqual(a[key], b[key], f"node {a['id']} {key}")
+                    # Something crossed between the ranks.
+                    self.assertTrue(all(p["exchanged_bytes"] > 0
+                                        for p in many["distributed"]["per_rank"]))
+
+    def test_ranks_with_different_scenarios_are_refused(self):
+        with tempfile.TemporaryDirectory() as d:
+            other = write(d, SCENARIO.replace("seed: 11", "seed: 12"), "other.yaml")
+            net_base, loc_base = pick_port_bases(NODES)
+            common = ["--net-base", str(net_base), "--loc-base", str(loc_base), "--no-dashboard"]
+            # MPMD: rank 0 runs s.yaml, rank 1 other.yaml.
+            path = write(d, SCENARIO)
+            r = subprocess.run([MPIRUN, *MPI_FLAGS, "-n", "1", BIN, "run", path, *common, ":",
+                                "-n", "1", BIN, "run", other, *common],
+                               capture_output=True, text=True, timeout=120, env=MPI_ENV)
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn("rank 1 was given another scenario or other flags than rank 0",
+                          r.stderr)
+
+    def test_what_is_not_supported_yet_is_refused_with_its_reason(self):
+        with tempfile.TemporaryDirectory() as d:
+            r, summary = run(d, "split", 2, extra=["--arch", "split"])
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIsNone(summary)
+            self.assertIn("a distributed run does not support yet", r.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
