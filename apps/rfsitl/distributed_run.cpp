@@ -51,6 +51,7 @@ std::optional<std::string> start_ranks(const scenario::Scenario& s, const std::s
     return e.what();
   }
   ranks.rank = ranks.peers->rank();
+  ranks.ranks_on_host = cluster::ranks_on_this_host();
   ranks.size = ranks.peers->size();
   // Every rank checks every rank's fingerprint against rank 0's, so that all
   // reach the same verdict and none is left waiting in an exchange.

@@ -24,7 +24,8 @@ struct RunRanks {
   bool here(std::size_t node) const { return owner.empty() || owner[node] == rank; }
   /// here() for every node, as LiveSources takes it.
   std::vector<bool> here_mask(std::size_t nodes) const;
-  engine::Distribution distribution() const { return {peers.get(), owner}; }
+  std::size_t ranks_on_host = 1;
+  engine::Distribution distribution() const { return {peers.get(), owner, ranks_on_host}; }
 };
 
 /// Under mpirun: starts MPI, checks that every rank was given the same

@@ -10,4 +10,11 @@ bool launched_by_mpirun() {
   return std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr || std::getenv("PMIX_RANK") != nullptr;
 }
 
+std::size_t ranks_on_this_host() {
+  const char* v = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  if (v == nullptr) return 1;
+  const long n = std::strtol(v, nullptr, 10);
+  return n > 0 ? static_cast<std::size_t>(n) : 1;
+}
+
 }  // namespace rfsitl::cluster

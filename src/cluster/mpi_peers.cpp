@@ -26,6 +26,12 @@ class MpiPeers final : public Peers {
     // other's worker threads, and on a busy or oversubscribed host a spinning
     // rank made each exchange take milliseconds instead of microseconds.
     setenv("OMPI_MCA_mpi_yield_when_idle", "1", 0);
+    // A tick's message is a few kB to a few hundred kB (the samples of the
+    // rank's transmitters). Over the shared-memory transport's 4 kB eager
+    // limit each message takes a rendezvous, which on the development machine
+    // (a container) cost about 0.4 s per tick at 128 nodes; 128 kB keeps
+    // the common messages eager (bench/mpi_exchange.py).
+    setenv("OMPI_MCA_btl_vader_eager_limit", "131072", 0);
     int provided = 0;
     check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided), "MPI_Init_thread");
     if (provided < MPI_THREAD_SERIALIZED) {

@@ -130,7 +130,7 @@ class LockStepEngine final : public Engine {
         counters_(s.nodes.size()),
         clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
                s.timing.mode == scenario::TimeMode::kRealTime),
-        pool_(worker_count(s)),
+        pool_(worker_count(s, std::max<std::size_t>(1, distribution.ranks_on_host))),
         traffic_(s.traffic, s.timing.sample_rate_hz),
         mobility_(s),
         reporter_(scenario_, channel_),
@@ -332,10 +332,10 @@ class LockStepEngine final : public Engine {
  private:
   /// One per core (or as set), and at least one per remote transceiver: those
   /// workers mostly wait on a socket, and their waits must overlap.
-  static std::size_t worker_count(const scenario::Scenario& s) {
-    const std::size_t wanted = s.engine.threads != 0
-                                   ? s.engine.threads
-                                   : std::max(1U, std::thread::hardware_concurrency());
+  static std::size_t worker_count(const scenario::Scenario& s, std::size_t ranks_on_host) {
+    const std::size_t cores = std::max(1U, std::thread::hardware_concurrency());
+    const std::size_t wanted =
+        s.engine.threads != 0 ? s.engine.threads : std::max<std::size_t>(1, cores / ranks_on_host);
     std::size_t remote = 0;
     for (std::size_t i = 0; i < s.nodes.size(); ++i) remote += s.runs_externally(i) ? 1 : 0;
     return std::clamp<std::size_t>(std::max(wanted, remote), 1, s.nodes.size());

@@ -72,7 +72,7 @@ std::vector<RankRun> run_ranks(
   for (std::size_t r = 0; r < k; ++r) {
     threads.emplace_back([&, r] {
       RecordingSink sink;
-      auto e = engine::make_engine(s, sink, {}, engine::Distribution{&group.peer(r), owner});
+      auto e = engine::make_engine(s, sink, {}, engine::Distribution{&group.peer(r), owner, 1});
       sink.engine = e.get();
       if (before) before(r, *e);
       const std::atomic<bool> stop{false};
@@ -195,7 +195,7 @@ TEST(EngineDistributed, RanksStopTogetherWhenOneIsTold) {
   for (std::size_t r = 0; r < 2; ++r) {
     threads.emplace_back([&, r] {
       RecordingSink sink;
-      auto e = engine::make_engine(s, sink, {}, engine::Distribution{&group.peer(r), owner});
+      auto e = engine::make_engine(s, sink, {}, engine::Distribution{&group.peer(r), owner, 1});
       sink.engine = e.get();
       e->run(r == 0 ? stop0 : never);
       ended[r] = e->status().virtual_samples;

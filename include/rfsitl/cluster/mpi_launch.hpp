@@ -23,6 +23,10 @@ bool mpi_available();
 /// this build has no MPI (naming the package to install).
 std::unique_ptr<Peers> start_mpi();
 
+/// How many ranks of the run share this host (OMPI_COMM_WORLD_LOCAL_SIZE;
+/// 1 when not told).
+std::size_t ranks_on_this_host();
+
 /// The host this rank runs on (MPI_Get_processor_name), for messages.
 std::string host_name();
 

@@ -64,6 +64,9 @@ struct RankStatus {
 struct Distribution {
   cluster::Peers* peers = nullptr;  ///< nullptr: one process, every node its own
   std::vector<std::size_t> owner;   ///< owner rank of each node, by index
+  /// Ranks sharing this host's cores: with engine.threads 0 each rank takes
+  /// its share of the cores for its workers, not all of them.
+  std::size_t ranks_on_host = 1;
 };
 
 /// Also the sink of the live position sources (position_source.hpp): a report
