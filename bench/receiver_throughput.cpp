@@ -2,7 +2,7 @@
 /// path consumes, on pure noise and on a stream full of frames (80-byte frames
 /// back to back with 200-sample gaps, 30 dB SNR). Median of 5 runs.
 ///
-///   rfsitl_receiver_throughput [--seconds S]
+///   rfsitl_receiver_throughput [--seconds S] [--only NAME]  (e.g. --only ofdm24, for perf)
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
   double seconds = 1.0;
   app.add_option("--seconds", seconds, "Signal length per measurement, at 1 Msps")
       ->capture_default_str();
+  std::string only;
+  app.add_option("--only", only, "Measure only this row (gmsk, ofdm24, dsss-barker11, ...)");
   CLI11_PARSE(app, argc, argv);
   const auto n = static_cast<std::size_t>(seconds * 1e6);
 
@@ -70,6 +72,7 @@ int main(int argc, char** argv) {
   const std::vector<cf32> quiet = noise(n, 1.0F, 3);
   std::printf("%-13s %16s %22s %10s\n", "phy", "noise [Msps]", "with frames [Msps]", "decoded");
   for (const auto& [name, phy] : phys) {
+    if (!only.empty() && name != only) continue;
     std::size_t sent = 0;
     std::size_t valid = 0;
     const std::vector<cf32> busy = frames(phy, n, &sent);
