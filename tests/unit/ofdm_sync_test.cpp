@@ -70,14 +70,17 @@ std::vector<cf32> ppdu(std::uint8_t seed) {
   return build_ppdu(psdu, *rate_from_mbps(24), seed, false);
 }
 
-/// `lead` samples of unit noise, then the PPDU at `snr_db` turned by `cfo`
-/// radians per sample, then noise again.
+/// `lead` samples of unit noise, then the PPDU at `snr_db` (its mean power over
+/// the noise's) turned by `cfo` radians per sample, then noise again.
 std::vector<cf32> stream(std::size_t lead, double snr_db, double cfo, std::mt19937& rng) {
   const std::vector<cf32> frame = ppdu(static_cast<std::uint8_t>(1 + rng() % 127));
+  double power = 0.0;
+  for (const cf32& s : frame) power += std::norm(s);
+  power /= static_cast<double>(frame.size());
   std::normal_distribution<float> g(0.0F, std::sqrt(0.5F));
   std::vector<cf32> x(lead + frame.size() + 200);
   for (cf32& s : x) s = {g(rng), g(rng)};
-  const auto amp = static_cast<float>(std::pow(10.0, snr_db / 20.0));
+  const auto amp = static_cast<float>(std::sqrt(std::pow(10.0, snr_db / 10.0) / power));
   for (std::size_t i = 0; i < frame.size(); ++i) {
     const double ph = cfo * static_cast<double>(i);
     x[lead + i] +=
@@ -104,26 +107,40 @@ TEST(StsDetector, DetectsWhereTheDoublePrecisionDetectorDid) {
       }
     }
   }
-  EXPECT_GT(compared, 400);  // most trials detect (all from a few dB up)
+  EXPECT_GT(compared, 480);  // of 560: all from a few dB up, most at 0 dB
+}
+
+/// Every detection in `x`, each search starting afresh after the last one (as
+/// the receiver does after a packet), by the reference or by StsDetector.
+std::vector<std::size_t> all_detections(const std::vector<cf32>& x, bool reference) {
+  std::vector<std::size_t> found;
+  std::size_t from = 0;
+  while (from < x.size()) {
+    const std::vector<cf32> rest(x.begin() + static_cast<std::ptrdiff_t>(from), x.end());
+    const std::optional<Detection> d = reference ? reference_detect(rest) : detect(rest, 2000);
+    if (!d) break;
+    found.push_back(from + d->index);
+    from += d->index + 1;
+  }
+  return found;
 }
 
 TEST(StsDetector, LongStrongBurstsLeaveNoResidueInTheWindowSums) {
   // A float running sum would carry the rounding of every strong sample into
-  // the quiet that follows; the detector recomputes its sums instead. After
-  // 10^6 samples of noise with bursts 60 dB above it, a 6 dB preamble is still
-  // found where the reference finds it.
+  // the quiet that follows; the detector recomputes its sums instead. Over 10^6
+  // samples of noise with bursts 60 dB above it (whose abrupt ends the
+  // delay-and-correlate metric itself can mistake for a plateau), then a 6 dB
+  // preamble, it declares exactly the packets the reference declares.
   std::mt19937 rng(7);
   std::vector<cf32> x = stream(1'000'000, 6.0, 0.05, rng);
   std::normal_distribution<float> g(0.0F, 1000.0F);
   for (std::size_t start = 1000; start + 5000 < 990'000; start += 20'000) {
-    for (std::size_t i = start; i < start + 5000; ++i) x[i] = {g(rng), 0.0F};  // not periodic
+    for (std::size_t i = start; i < start + 5000; ++i) x[i] = {g(rng), g(rng)};
   }
-  const std::optional<Detection> want = reference_detect(x);
-  ASSERT_TRUE(want.has_value());
-  ASSERT_GE(want->index, 1'000'000U);  // the preamble, not a burst
-  const std::optional<Detection> got = detect(x, 2000);
-  ASSERT_TRUE(got.has_value());
-  EXPECT_EQ(got->index, want->index);
+  const std::vector<std::size_t> want = all_detections(x, true);
+  ASSERT_FALSE(want.empty());
+  EXPECT_GE(want.back(), 1'000'000U);  // the preamble is found
+  EXPECT_EQ(all_detections(x, false), want);
 }
 
 TEST(StsDetector, NoiseAloneIsNeverAPacket) {
