@@ -2,13 +2,13 @@
 # The benchmark suite: set up, build (release), measure, and write CSV files, PNG
 # plots and summary.md into out/bench/ (the paper's numbers beside ours).
 #
-#   bash bench/run_benchmarks.sh            # full run, about 13 minutes on 2 cores, plus
+#   bash bench/run_benchmarks.sh            # full run, about 17.5 minutes on 2 cores, plus
 #                                           # up to 3 for fading_per
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity capacity_fading virtual mobility mix stage_cost dashboard
-# overload fading_per mac" by default, and ip; any subset):
+# Stages (STAGES="fig4 fig5 capacity capacity_fading ofdm_native virtual mobility mix stage_cost
+# dashboard overload fading_per mac" by default, and ip; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
@@ -16,6 +16,8 @@
 #             scripts/bench_collect.py) and its delivery ratio
 #   capacity_fading  the same with the delay stage, four taps and Rician fading on every
 #             tap of every link (a scenario with `nodes: N`), N = CAPF_NODES
+#   ofdm_native  the same load on 802.11a/g OFDM at its native 20 Msps, 24 Mbit/s frames,
+#             ticks of OFDM_TICK_US, N = OFDM_NODES: real time, lag, delivery, CPU per node
 #   virtual   simulated seconds per wall second, VIRT_NODES nodes, 1 frame/node/s
 #   mobility  share of the wall time spent moving MOB_NODES random-waypoint nodes in
 #             virtual time, every node pinging a random node once a second (frame and
@@ -41,11 +43,12 @@
 #             csma bounds (bench/ip_throughput.py; root, iperf3); not in the default list
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64 96 128 160"
-#   CAPF_NODES="32 48 64"
+#   CAPF_NODES="32 48 64"  OFDM_NODES="2 4 8 12"  OFDM_TICK_US=100  OFDM_TICK_SAMPLES=
+#   BIN=build/release/apps/rfsitl
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
 #   MIX_SECONDS=0.2  OVL_SECONDS=60  FADING_FRAMES=20000  PORT_BASE=20000
-#   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)
-# Every emulator binds 127.0.0.1, gets its own port range (PORT_BASE + 1000 k) and is
+#   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)  PORT_STRIDE=1000  PORT_SLOTS=40
+# Every emulator binds 127.0.0.1, gets its own port range (PORT_BASE + PORT_STRIDE k) and is
 # always stopped (SIGINT, then SIGKILL after 30 s), also when this script fails.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -53,10 +56,12 @@ T_START=$(date +%s)
 
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
-  D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAPF="16 32" D_CAP_S=15 D_VIRT_S=10 D_MIX_S=0.05
+  D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAPF="16 32" D_OFDM="2 8" D_CAP_S=15
+  D_VIRT_S=10 D_MIX_S=0.05
   D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15 D_FADING=2000 D_MAC_S=10
 else
   D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64 96 128 160" D_CAPF="32 48 64"
+  D_OFDM="2 4 8 12"
   D_CAP_S=60
   D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000 D_MAC_S=60
 fi
@@ -65,6 +70,12 @@ COUNT="${COUNT:-$D_COUNT}"
 FIG5_NODES="${FIG5_NODES:-$D_FIG5}"
 CAP_NODES="${CAP_NODES:-$D_CAP}"
 CAPF_NODES="${CAPF_NODES:-$D_CAPF}"
+OFDM_NODES="${OFDM_NODES:-$D_OFDM}"
+# 100 us = 2000 samples at 20 Msps: 10,000 ticks a second, not 80,000 of 250 samples.
+# OFDM_TICK_SAMPLES, if set, gives the tick in samples instead (e.g. 250, as before ticks
+# by duration, also for an older build's BIN that lacks tick_us).
+OFDM_TICK_US="${OFDM_TICK_US:-100}"
+OFDM_TICK_SAMPLES="${OFDM_TICK_SAMPLES:-}"
 CAP_SECONDS="${CAP_SECONDS:-$D_CAP_S}"
 VIRT_NODES="${VIRT_NODES:-15}"
 VIRT_SECONDS="${VIRT_SECONDS:-$D_VIRT_S}"
@@ -72,7 +83,11 @@ MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
 MOB_NODES="${MOB_NODES:-64}"
 MOB_SECONDS="${MOB_SECONDS:-$D_MOB_S}"  # virtual seconds at 10 ms, at 1 ms
 PORT_BASE="${PORT_BASE:-20000}"
-STAGES="${STAGES-fig4 fig5 capacity capacity_fading virtual mobility mix stage_cost dashboard overload fading_per mac}"  # empty: only the report
+# Port ranges used in turn: PORT_SLOTS of PORT_STRIDE ports from PORT_BASE (a range
+# must hold 10 ports per node: 200 is enough for 16 nodes).
+PORT_STRIDE="${PORT_STRIDE:-1000}"
+PORT_SLOTS="${PORT_SLOTS:-40}"
+STAGES="${STAGES-fig4 fig5 capacity capacity_fading ofdm_native virtual mobility mix stage_cost dashboard overload fading_per mac}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 OVL_SECONDS="${OVL_SECONDS:-$D_OVL_S}"
@@ -106,7 +121,7 @@ if [ "${NO_BUILD:-0}" != 1 ]; then
   bash scripts/setup.sh
   bash scripts/build.sh release
 fi
-BIN=build/release/apps/rfsitl
+BIN="${BIN:-build/release/apps/rfsitl}"  # another build's emulator, to compare
 BENCH=build/release/bench
 PY=/usr/bin/python3
 stage() { [[ " $STAGES " == *" $1 "* ]]; }
@@ -134,11 +149,11 @@ trap 'stop_gnuradio; stop_emulator' EXIT
 trap 'stop_gnuradio; stop_emulator; exit 130' INT TERM
 
 # launch_emulator LOG JSON ARGS...: starts `rfsitl run ARGS` in the background on the
-# next port range (PORT_BASE + 1000 k); sets EMU_PID and NET_BASE.
+# next port range (PORT_BASE + PORT_STRIDE k); sets EMU_PID and NET_BASE.
 launch_emulator() {
   local log="$1" json="$2"
   shift 2
-  local base=$((PORT_BASE + 1000 * (RUN_INDEX % 40)))
+  local base=$((PORT_BASE + PORT_STRIDE * (RUN_INDEX % PORT_SLOTS)))
   RUN_INDEX=$((RUN_INDEX + 1))
   NET_BASE=$((base + 3))
   "$BIN" run "$@" --net-base "$NET_BASE" --loc-base $((base + 6)) --bind 127.0.0.1 \
@@ -242,6 +257,11 @@ if stage fig5; then
   mark fig5
 fi
 
+# cpu_seconds PID: user + system CPU seconds of the process so far (all its threads).
+cpu_seconds() {
+  awk -v tck="$(getconf CLK_TCK)" '{ print ($14 + $15) / tck }' "/proc/$1/stat"
+}
+
 # capacity_run NAME NODES [SCENARIO_OF_N]: the capacity loop, one row per N into
 # $OUT/NAME.csv, logs in $OUT/NAME/. SCENARIO_OF_N, if given, is a function that
 # writes the scenario file for N nodes and prints its path; otherwise --nodes N.
@@ -259,17 +279,21 @@ capacity_run() {
     else
       set -- --nodes "$n"
     fi
+    cpu=() cpu0="" wall0=""
     if start_emulator "$log" "$json" "$@"; then
       from=$(wc -l <"$log")
+      cpu0=$(cpu_seconds "$EMU_PID") wall0=$(date +%s.%N)
       "$BENCH"/rfsitl_swarm_load --nodes "$n" --net-base "$NET_BASE" --duration "$CAP_SECONDS" \
         --seed "$n" --json "$load" --csv "$OUT/$name/pings_$n.csv" ||
         echo "bench: load at N=$n failed"
       to=$(wc -l <"$log")
+      cpu=(--cpu-s "$(awk -v a="$(cpu_seconds "$EMU_PID")" -v b="$cpu0" 'BEGIN { print a - b }')"
+        --cpu-wall-s "$(awk -v a="$(date +%s.%N)" -v b="$wall0" 'BEGIN { print a - b }')")
     fi
     stop_emulator
     "$PY" scripts/bench_collect.py capacity-row --n "$n" --load-json "$load" --emu-log "$log" \
       --from-line "$((from + 1))" --to-line "$to" --load-seconds "$CAP_SECONDS" \
-      --summary-json "$json" \
+      --summary-json "$json" "${cpu[@]}" \
       --floor-ms "$FLOOR_MS" --out "$OUT/$name.csv" --lag-csv "$OUT/$name/lag_$n.csv"
   done
 }
@@ -299,6 +323,20 @@ YAML
   echo "$file"
 }
 
+# The ofdm_native scenario for N nodes: the default formation and the paper's
+# path loss, 802.11a/g at 24 Mbit/s and its own 20 Msps, ticks by duration.
+ofdm_scenario_of() {
+  local file="$OUT/ofdm_native/scenario_$1.yaml" tick="tick_us: $OFDM_TICK_US"
+  [ -z "$OFDM_TICK_SAMPLES" ] || tick="tick_samples: $OFDM_TICK_SAMPLES"
+  cat >"$file" <<YAML
+name: ofdm-native-$1
+time: {sample_rate_hz: 20e6, $tick}
+phy: {type: ofdm, rate_mbps: 24}
+nodes: $1
+YAML
+  echo "$file"
+}
+
 if stage capacity; then
   echo "== Capacity: every node pings a random other node once per second, $CAP_SECONDS s" \
     "of real time, N = $CAP_NODES"
@@ -311,6 +349,14 @@ if stage capacity_fading; then
   mkdir -p "$OUT/capacity_fading"
   capacity_run capacity_fading "$CAPF_NODES" fading_scenario_of
   mark capacity_fading
+fi
+
+if stage ofdm_native; then
+  echo "== 802.11a/g at 20 Msps, 24 Mbit/s, ticks of $OFDM_TICK_US us: the capacity load," \
+    "N = $OFDM_NODES"
+  mkdir -p "$OUT/ofdm_native"
+  capacity_run ofdm_native "$OFDM_NODES" ofdm_scenario_of
+  mark ofdm_native
 fi
 
 if stage virtual; then
@@ -401,8 +447,10 @@ fi
 "$PY" scripts/bench_plots.py "$OUT"
 T_END=$(date +%s)
 if [ -n "$STAGES" ]; then
-  printf "key,value\nquick,%s\nwall_s,%s\nload_before,%s\nstages,%s\ncap_seconds,%s\n" \
-    "$QUICK" "$((T_END - T_START))" "$LOAD_BEFORE" "$STAGES" "$CAP_SECONDS" >"$OUT/run_info.csv"
+  printf "key,value\nquick,%s\nwall_s,%s\nload_before,%s\nstages,%s\ncap_seconds,%s\n%s\n" \
+    "$QUICK" "$((T_END - T_START))" "$LOAD_BEFORE" "$STAGES" "$CAP_SECONDS" \
+    "ofdm_tick,${OFDM_TICK_SAMPLES:+$OFDM_TICK_SAMPLES samples}${OFDM_TICK_SAMPLES:-$OFDM_TICK_US us}" \
+    >"$OUT/run_info.csv"
 fi
 "$PY" scripts/bench_summary.py "$OUT" >"$OUT/summary.md"
 echo

@@ -48,7 +48,8 @@ def read_summary(path, tick_samples=250, fs=1e6):
         return {"max_lag_ms": math.nan, "late_ticks": math.nan, "late_tick_fraction": math.nan,
                 "virtual_s": math.nan, "wall_s": math.nan, "emu_frames": 0, "emu_delivered": 0,
                 "emu_lost": {}}
-    ticks = s["virtual_s"] * fs / tick_samples
+    # Runs since the summary named its tick say it; older summaries were all 250 at 1 Msps.
+    ticks = s["virtual_s"] * s.get("sample_rate_hz", fs) / s.get("tick_samples", tick_samples)
     lost = {}
     for n in s.get("nodes", []):
         for reason, v in n["lost"].items():
@@ -164,11 +165,16 @@ def capacity_row(a):
         row[f"lost_{reason}"] = s["emu_lost"].get(reason, 0)
     row["emu_frames"] = s["emu_frames"]
     row["emu_delivered"] = s["emu_delivered"]
+    # The emulator's CPU (all its threads) over the load, as a share of one core.
+    cpu = 100.0 * a.cpu_s / a.cpu_wall_s if a.cpu_s is not None and a.cpu_wall_s else nan
+    row["cpu_percent"] = cpu
+    row["cpu_per_node_percent"] = cpu / a.n
     append_row(a.out, row)
     print(f"N={a.n:3d}: {'keeps' if keeps else 'does NOT keep'} real time "
           f"(end lag {end_lag:.2f} ms, slope {growth:.3f} ms/s, worst {s['max_lag_ms']:.1f} ms); "
           f"delivery {row['delivery_ratio']:.3f}, round trips {row['round_trip_ratio']:.3f}, "
-          f"rtt mean {row['rtt_mean_ms']:.2f} p90 {row['rtt_p90_ms']:.2f} ms")
+          f"rtt mean {row['rtt_mean_ms']:.2f} p90 {row['rtt_p90_ms']:.2f} ms; "
+          f"cpu {cpu:.1f} % of a core ({row['cpu_per_node_percent']:.2f} % per node)")
 
 
 def main():
@@ -183,6 +189,8 @@ def main():
     c.add_argument("--to-line", type=int, required=True)
     c.add_argument("--load-seconds", type=float, required=True)
     c.add_argument("--lag-csv")
+    c.add_argument("--cpu-s", type=float, help="emulator CPU seconds (user + system) over the load")
+    c.add_argument("--cpu-wall-s", type=float, help="wall seconds those CPU seconds were spent in")
     for p in (r, c):
         p.add_argument("--n", type=int, required=True)
         p.add_argument("--summary-json", required=True)

@@ -86,13 +86,13 @@ def plot_fig5(out, floor):
     save(fig, os.path.join(out, "fig5_rtt_vs_n.png"))
 
 
-def plot_capacity(out):
-    rows = bc.read_rows(os.path.join(out, "capacity.csv"))
+def plot_capacity(out, name="capacity", title="1 ping/node/s"):
+    rows = bc.read_rows(os.path.join(out, f"{name}.csv"))
     if not rows:
         return
     fig, (lx, dx) = plt.subplots(1, 2, figsize=(11, 4.5))
     for r in rows:
-        lag = bc.read_rows(os.path.join(out, "capacity", f"lag_{r['n']}.csv"))
+        lag = bc.read_rows(os.path.join(out, name, f"lag_{r['n']}.csv"))
         if not lag:
             continue
         t0 = bc.num(lag[0]["wall_s"])
@@ -104,7 +104,7 @@ def plot_capacity(out):
     lx.set_ylim(bottom=0)
     lx.set_xlabel("seconds into the load")
     lx.set_ylabel("lag of the latest tick [ms] (stats lines)")
-    lx.set_title("Real-time lag under load (1 ping/node/s)", fontsize=10)
+    lx.set_title(f"Real-time lag under load ({title})", fontsize=10)
     lx.grid(True, alpha=0.3)
     lx.legend(fontsize=8)
     ns = [int(r["n"]) for r in rows]
@@ -127,7 +127,7 @@ def plot_capacity(out):
     h1, l1 = dx.get_legend_handles_labels()
     h2, l2 = ax2.get_legend_handles_labels()
     dx.legend(h1 + h2, l1 + l2, fontsize=8, loc="lower left")
-    save(fig, os.path.join(out, "capacity.png"))
+    save(fig, os.path.join(out, f"{name}.png"))
 
 
 def plot_mix(out):
@@ -169,6 +169,7 @@ def main():
     plot_fig4(a.out, floor)
     plot_fig5(a.out, floor)
     plot_capacity(a.out)
+    plot_capacity(a.out, "ofdm_native", "802.11a/g 24 Mbit/s at 20 Msps, 1 ping/node/s")
     plot_mix(a.out)
 
 

@@ -174,8 +174,8 @@ def capacity_table(out, name="capacity"):
         return []
     lines = ["| N | real time | end lag ms | lag slope ms/s | worst lag ms | pings | "
              "delivery ratio | round trips | RTT mean ms | RTT p50 | RTT p90 | RTT p99 | "
-             "lost: collision / half-duplex |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "lost: collision / half-duplex | CPU % of a core (per node) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(
             f"| {r['n']} | {'yes' if r['keeps_real_time'] == '1' else '**no**'} | "
@@ -184,7 +184,9 @@ def capacity_table(out, name="capacity"):
             f"{fmt(bc.num(r['delivery_ratio']), 3)} | {fmt(bc.num(r['round_trip_ratio']), 3)} | "
             f"{fmt(bc.num(r['rtt_mean_ms']))} | {fmt(bc.num(r['rtt_p50_ms']))} | "
             f"{fmt(bc.num(r['rtt_p90_ms']))} | {fmt(bc.num(r['rtt_p99_ms']))} | "
-            f"{r['lost_collision']} / {r['lost_half_duplex']} |")
+            f"{r['lost_collision']} / {r['lost_half_duplex']} | "
+            f"{fmt(bc.num(r.get('cpu_percent', '')), 1)} "
+            f"({fmt(bc.num(r.get('cpu_per_node_percent', '')), 2)}) |")
     return lines
 
 
@@ -356,6 +358,12 @@ def main():
                  "100 ns and 3 dB apart and Rician fading (K = 6 dB) on every tap of every link "
                  "(`capacity_fading/scenario_N.yaml`).\n")
         p += capacity_table(out, "capacity_fading") + [""]
+    if capacity_table(out, "ofdm_native"):
+        p.append("## 802.11a/g at its native 20 Msps (`ofdm_native.csv`, `ofdm_native.png`)\n")
+        p.append("The same load with OFDM at 24 Mbit/s, 20 Msps and ticks of "
+                 f"{info.get('ofdm_tick', '?')} (`ofdm_native/scenario_N.yaml`). CPU: the "
+                 "emulator's user + system time over the load, in % of one core.\n")
+        p += capacity_table(out, "ofdm_native") + [""]
     if virtual_table(out):
         p.append("## Virtual-time speed (`virtual_speed.csv`)\n")
         p += virtual_table(out) + [""]

@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 
 #include <spdlog/spdlog.h>
@@ -74,6 +75,9 @@ const SettingFlag kSettingFlags[] = {
      [](S d) { return number(d.timing.sample_rate_hz); }},
     {"--tick", "time.tick_samples", "Samples per lock-step tick (B)",
      [](S d) { return number(d.timing.tick_samples); }},
+    {"--tick-us", "time.tick_us",
+     "Tick by duration in us, at the sample rate (a whole number of samples); instead of --tick",
+     [](S d) { return number(1e6 * d.timing.tick_samples / d.timing.sample_rate_hz); }},
     {"--seed", "seed", "Seed of the noise sources", [](S d) { return number(double(d.seed)); }},
     {"--threads", "engine.threads", "Worker threads; 0: one per core",
      [](S d) { return number(d.engine.threads); }},
@@ -118,6 +122,19 @@ struct RunOptions {
   std::optional<std::string> mavlink;  ///< --mavlink ENDPOINT[+STEP]
 };
 
+// A file refuses tick_samples beside tick_us; so does the command line.
+void refuse_both_ticks(const RunOptions& o) {
+  const auto given = [&o](std::string_view flag) {
+    for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
+      if (kSettingFlags[i].flag == flag) return o.settings[i].has_value();
+    }
+    return false;
+  };
+  if (given("--tick") && given("--tick-us")) {
+    throw scenario::ScenarioError("--tick-us: give the tick as --tick or as --tick-us, not both");
+  }
+}
+
 scenario::Scenario build_scenario(const RunOptions& o) {
   scenario::Scenario s;
   if (!o.scenario_path.empty()) {
@@ -133,6 +150,7 @@ scenario::Scenario build_scenario(const RunOptions& o) {
     s.nodes = scenario::default_formation(o.nodes.value_or(6), s.channel);
     s.name = "default-formation";
   }
+  refuse_both_ticks(o);
   for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
     if (const auto& v = o.settings[i]) {
       scenario::apply_setting(s, kSettingFlags[i].key, *v, std::string(kSettingFlags[i].flag));

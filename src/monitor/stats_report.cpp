@@ -92,6 +92,7 @@ nlohmann::json stats_json(const scenario::Scenario& s, engine::Engine& e,
   nlohmann::json j;
   j["scenario"] = s.name;
   j["sample_rate_hz"] = s.timing.sample_rate_hz;
+  j["tick_samples"] = s.timing.tick_samples;
   j["virtual_s"] = st.virtual_s;
   j["wall_s"] = st.wall_s;
   j["lag_s"] = st.lag_s;

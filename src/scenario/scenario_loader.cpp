@@ -48,6 +48,32 @@ constexpr std::size_t kMaxScenarioBytes = std::size_t{16} << 20;
 
 // ---- sections ----------------------------------------------------------------------------
 
+// `tick_us`: the tick by its duration, at the sample rate known when it is read
+// (the same section's or the current one), so that a 20 Msps scenario can ask
+// for 100 us ticks instead of counting 2000 samples. It must come to a whole
+// number of samples: a tick of 333.3 samples would make the clock drift.
+std::uint32_t tick_samples_of_us(Context& c, const Entry& us, double sample_rate_hz) {
+  const double v = real(c, us);
+  c.check(v, us.key, kPositive);
+  if (!(sample_rate_hz > 0.0)) {
+    c.fail(us.key, "needs a sample rate > 0, got " + fmt(sample_rate_hz) + " Hz");
+  }
+  const double n = v * 1e-6 * sample_rate_hz;
+  const double whole = std::round(n);
+  // 1e-9 relative: 0.1 us at 20e6 Hz reads back as 1.9999999999999998 samples.
+  if (std::abs(n - whole) > 1e-9 * std::max(1.0, n)) {
+    c.fail(us.key, fmt(v) + " us at " + fmt(sample_rate_hz) + " Hz is " + fmt(n) +
+                       " samples, not a whole number (use tick_samples, or a duration that is)");
+  }
+  // Compared as doubles: 1e30 samples must not be converted to an integer first.
+  if (whole < static_cast<double>(kTickSamples.lo) ||
+      whole > static_cast<double>(kTickSamples.hi)) {
+    c.fail(us.key, fmt(v) + " us at " + fmt(sample_rate_hz) + " Hz is " + fmt(whole) +
+                       " samples; the tick " + kTickSamples.describe() + " samples");
+  }
+  return static_cast<std::uint32_t>(whole);
+}
+
 void read_time(Context& c, const Entry& at, TimingConfig& t) {
   Section sec(c, at);
   if (const Entry mode = sec.take("mode")) {
@@ -57,7 +83,13 @@ void read_time(Context& c, const Entry& at, TimingConfig& t) {
   }
   sec.get("speed", t.speed);
   sec.get("sample_rate_hz", t.sample_rate_hz);
-  sec.get("tick_samples", t.tick_samples, kTickSamples);
+  const Entry samples = sec.take("tick_samples");
+  const Entry us = sec.take("tick_us");
+  if (samples && us) {
+    c.fail(us.key, "give the tick as tick_samples or as tick_us, not both");
+  }
+  if (samples) t.tick_samples = static_cast<std::uint32_t>(integer(c, samples, kTickSamples));
+  if (us) t.tick_samples = tick_samples_of_us(c, us, t.sample_rate_hz);
   sec.get("duration_s", t.duration_s);
   sec.finish();
 }

@@ -338,7 +338,7 @@ TEST(ParseScenario, IpSectionAndANodesNamespaceAreReadAndChecked) {
 TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {
   EXPECT_EQ(error_of("nodes: [{id: 1}]\ntime:\n  mode: virtual\n  tick_sample: 500\n"),
             "t.yaml:4: time.tick_sample: unknown key (allowed in time: mode, speed, "
-            "sample_rate_hz, tick_samples, duration_s)");
+            "sample_rate_hz, tick_samples, tick_us, duration_s)");
   EXPECT_TRUE(contains(error_of("nodes: [{id: 1}]\nnode: []\n"),
                        "t.yaml:2: node: unknown key (allowed at top level: name, seed,"));
   EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    pos: {x: 0, y: 0}\n"),

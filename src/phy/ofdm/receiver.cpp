@@ -10,21 +10,13 @@
 
 #include "rfsitl/phy/ofdm/bit_pipeline.hpp"
 #include "rfsitl/phy/ofdm/fcs.hpp"
+#include "rfsitl/phy/ofdm/ltf_search.hpp"
 #include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "rfsitl/phy/ofdm/sts_detector.hpp"
 #include "rfsitl/phy/ofdm/waveform.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {
-
-// Packet detection (delay-and-correlate on the 16-sample periodic L-STF):
-// M = |sum x[n-16] x*[n]| / sum |x[n]|^2 over a window of kWindow samples is
-// about 1 / sqrt(kWindow) on noise and S / (S + N) on the L-STF. A packet is
-// declared when M stays above kThreshold for kPlateau consecutive samples
-// (about 0 dB SNR and up).
-constexpr unsigned kLag = 16;
-constexpr unsigned kWindow = 48;
-constexpr double kThreshold = 0.55;
-constexpr unsigned kPlateau = 24;
 
 // After detection, the first long training symbol T1 starts between 12 and 132
 // samples later (the plateau is reached 64..160 samples into the 160-sample
@@ -46,18 +38,23 @@ unsigned bin(int k) {
   return static_cast<unsigned>((k + 64) % 64);
 }
 
+/// Time-domain long training symbol (unnormalized inverse FFT), for locating T1
+/// by cross-correlation.
+std::array<cf32, kFftSize> long_training_time() {
+  std::array<cf32, kFftSize> in{};
+  std::array<cf32, kFftSize> out{};
+  fftplan ifft = fft_create_plan(kFftSize, in.data(), out.data(), LIQUID_FFT_BACKWARD, 0);
+  for (int k = -32; k < 32; ++k) in[bin(k)] = long_training_value(k);
+  fft_execute(ifft);
+  fft_destroy_plan(ifft);
+  return out;
+}
+
 class StreamingReceiver final : public OfdmReceiver {
  public:
   explicit StreamingReceiver(Handler handler)
-      : handler_(std::move(handler)), viterbi_(make_viterbi_decoder()) {
+      : handler_(std::move(handler)), viterbi_(make_viterbi_decoder()), ltf_(long_training_time()) {
     fft_ = fft_create_plan(kFftSize, fft_in_.data(), fft_out_.data(), LIQUID_FFT_FORWARD, 0);
-    // Time-domain long training symbol, for locating T1 by cross-correlation.
-    fftplan ifft =
-        fft_create_plan(kFftSize, fft_in_.data(), fft_out_.data(), LIQUID_FFT_BACKWARD, 0);
-    for (int k = -32; k < 32; ++k) fft_in_[bin(k)] = long_training_value(k);
-    fft_execute(ifft);
-    fft_destroy_plan(ifft);
-    std::copy(fft_out_.begin(), fft_out_.end(), ltf_time_.begin());
     reset();
   }
   ~StreamingReceiver() override { fft_destroy_plan(fft_); }
@@ -68,7 +65,13 @@ class StreamingReceiver final : public OfdmReceiver {
     std::size_t i = 0;
     while (i < samples.size()) {
       if (state_ == State::kSearch) {
-        i += search(samples.subspan(i));
+        i += detector_.search(samples.subspan(i));
+        if (detector_.detected()) {
+          coarse_cfo_ = detector_.coarse_cfo();
+          state_ = State::kTraining;
+          pkt_.clear();
+          needed_ = kLtfSearch + 2 * kFftSize + 8;
+        }
       } else {
         const std::size_t take = std::min(samples.size() - i, needed_ - pkt_.size());
         pkt_.insert(pkt_.end(), samples.begin() + static_cast<std::ptrdiff_t>(i),
@@ -84,52 +87,11 @@ class StreamingReceiver final : public OfdmReceiver {
   void reset() override {
     state_ = State::kSearch;
     pkt_.clear();
-    delay_.fill(cf32{});
-    prods_.fill({});
-    powers_.fill(0.0);
-    sum_prod_ = {};
-    sum_pow_ = 0.0;
-    pos_ = 0;
-    plateau_ = 0;
-    filled_ = 0;
+    detector_.reset();
   }
 
  private:
   enum class State { kSearch, kTraining, kSignal, kData };
-
-  /// Runs the detector over `x`; returns how many samples it consumed (all of
-  /// them, or up to and including the one that completed a detection).
-  std::size_t search(std::span<const cf32> x) {
-    for (std::size_t n = 0; n < x.size(); ++n) {
-      const cf32 s = x[n];
-      const auto slot = static_cast<unsigned>(pos_ % kLag);
-      const std::complex<double> older = delay_[slot];
-      const std::complex<double> prod = older * std::conj(std::complex<double>(s));
-      delay_[slot] = s;
-      const auto w = static_cast<unsigned>(pos_ % kWindow);
-      sum_prod_ += prod - prods_[w];
-      const double pw = std::norm(std::complex<double>(s));
-      sum_pow_ += pw - powers_[w];
-      prods_[w] = prod;
-      powers_[w] = pw;
-      ++pos_;
-      if (filled_ < kWindow + kLag) {
-        ++filled_;
-        continue;
-      }
-      const bool above =
-          sum_pow_ > 0.0 && std::norm(sum_prod_) > kThreshold * kThreshold * sum_pow_ * sum_pow_;
-      plateau_ = above ? plateau_ + 1 : 0;
-      if (plateau_ >= kPlateau) {
-        coarse_cfo_ = -std::arg(sum_prod_) / kLag;
-        state_ = State::kTraining;
-        pkt_.clear();
-        needed_ = kLtfSearch + 2 * kFftSize + 8;
-        return n + 1;
-      }
-    }
-    return x.size();
-  }
 
   void advance() {
     switch (state_) {
@@ -157,37 +119,11 @@ class StreamingReceiver final : public OfdmReceiver {
     }
   }
 
-  std::complex<double> ltf_correlation(std::size_t m) const {
-    std::complex<double> acc;
-    cf32 rot = rotator(-coarse_cfo_ * static_cast<double>(m));
-    const cf32 step = rotator(-coarse_cfo_);
-    for (unsigned k = 0; k < kFftSize; ++k) {
-      acc += std::complex<double>(pkt_[m + k] * rot * std::conj(ltf_time_[k]));
-      rot *= step;
-    }
-    return acc;
-  }
-
   /// Timing from the long training field, fine CFO, channel and noise estimates.
   void train() {
-    double best = -1.0;
-    std::size_t t1 = 0;
-    for (std::size_t m = 0; m + 2 * kFftSize <= pkt_.size() && m <= kLtfSearch; ++m) {
-      const double metric = std::abs(ltf_correlation(m)) + std::abs(ltf_correlation(m + 64));
-      if (metric > best) {
-        best = metric;
-        t1 = m;
-      }
-    }
-    // Residual CFO from the two repetitions T1, T2 (after the coarse correction).
-    std::complex<double> f;
-    for (unsigned k = 0; k < kFftSize; ++k) {
-      const double a = coarse_cfo_ * static_cast<double>(t1 + k);
-      const double b = coarse_cfo_ * static_cast<double>(t1 + 64 + k);
-      f += std::complex<double>(pkt_[t1 + k] * rotator(-a)) *
-           std::conj(std::complex<double>(pkt_[t1 + 64 + k] * rotator(-b)));
-    }
-    cfo_ = coarse_cfo_ - std::arg(f) / 64.0;
+    const LtfTiming timing = ltf_.find(pkt_, coarse_cfo_, kLtfSearch);
+    const std::size_t t1 = timing.t1;
+    cfo_ = timing.cfo;
     const std::size_t start = t1 - std::min<std::size_t>(t1, kTimingBackoff);
     std::array<cf32, kFftSize> y1{};
     window(start, cfo_);
@@ -206,6 +142,14 @@ class StreamingReceiver final : public OfdmReceiver {
     }
     noise_var_ = static_cast<float>(std::max(noise / 52.0, 1e-30));
     snr_db_ = static_cast<float>(10.0 * std::log10(std::max(signal / 52.0, 1e-30) / noise_var_));
+    // What equalizing needs per data subcarrier is fixed for the packet: the
+    // zero-forcing factor conj(H) / |H|^2 and the post-equalization noise.
+    for (unsigned d = 0; d < 48; ++d) {
+      const unsigned b = bin(data_subcarriers()[d]);
+      const float h2 = std::max(std::norm(channel_[b]), 1e-30F);
+      inv_channel_[d] = std::conj(channel_[b]) / h2;
+      eq_noise_[d] = noise_var_ / h2;
+    }
     next_window_ = start + 2 * kFftSize + kCyclicPrefix;
     symbol_index_ = 0;
     state_ = State::kSignal;
@@ -227,10 +171,7 @@ class StreamingReceiver final : public OfdmReceiver {
     const cf32 derotate =
         std::abs(pilot_sum) > 0.0F ? std::conj(pilot_sum) / std::abs(pilot_sum) : cf32{1.0F, 0.0F};
     for (unsigned d = 0; d < 48; ++d) {
-      const unsigned b = bin(data_subcarriers()[d]);
-      const float h2 = std::max(std::norm(channel_[b]), 1e-30F);
-      eq_[d] = fft_out_[b] * std::conj(channel_[b]) / h2 * derotate;
-      eq_noise_[d] = noise_var_ / h2;
+      eq_[d] = fft_out_[bin(data_subcarriers()[d])] * (inv_channel_[d] * derotate);
     }
     ++symbol_index_;
     next_window_ += kSymbolSamples;
@@ -238,12 +179,11 @@ class StreamingReceiver final : public OfdmReceiver {
 
   /// Soft bits of the equalized symbol, deinterleaved, appended to llr_.
   void collect_llrs(unsigned n_bpsc) {
-    soft_.resize(48 * n_bpsc);
-    for (unsigned d = 0; d < 48; ++d) {
-      demap_soft(eq_[d], n_bpsc, eq_noise_[d], std::span<float>(soft_).subspan(d * n_bpsc, n_bpsc));
-    }
-    const std::vector<float> deint = deinterleave(soft_, n_bpsc);
-    llr_.insert(llr_.end(), deint.begin(), deint.end());
+    const std::span<float> soft = std::span(soft_).first(48 * n_bpsc);
+    demap_symbol(eq_, eq_noise_, n_bpsc, soft);
+    const std::size_t at = llr_.size();
+    llr_.resize(at + soft.size());
+    deinterleave_into(soft, n_bpsc, std::span(llr_).subspan(at));
   }
 
   void decode_signal() {
@@ -312,18 +252,10 @@ class StreamingReceiver final : public OfdmReceiver {
   fftplan fft_;
   std::array<cf32, kFftSize> fft_in_{};
   std::array<cf32, kFftSize> fft_out_{};
-  std::array<cf32, kFftSize> ltf_time_{};
+  LtfSearch ltf_;
 
   State state_ = State::kSearch;
-  // Detector.
-  std::array<cf32, kLag> delay_{};
-  std::array<std::complex<double>, kWindow> prods_{};
-  std::array<double, kWindow> powers_{};
-  std::complex<double> sum_prod_;
-  double sum_pow_ = 0.0;
-  std::uint64_t pos_ = 0;
-  unsigned plateau_ = 0;
-  unsigned filled_ = 0;
+  StsDetector detector_;
   // Packet.
   std::vector<cf32> pkt_;  // samples since detection
   std::size_t needed_ = 0;
@@ -339,7 +271,8 @@ class StreamingReceiver final : public OfdmReceiver {
   unsigned symbols_left_ = 0;
   std::array<cf32, 48> eq_{};
   std::array<float, 48> eq_noise_{};
-  std::vector<float> soft_;
+  std::array<cf32, 48> inv_channel_{};
+  std::array<float, 48 * 6> soft_{};
   std::vector<float> llr_;
   std::vector<cf32> symbols_;
 };

@@ -19,9 +19,12 @@ namespace {
 /// (2k - (2^m - 1)) * k_mod and carries the label gray(k) = k ^ (k >> 1), first
 /// bit in the label's MSB: this reproduces Tables 17-14 ... 17-17 (e.g. 16-QAM
 /// 00 -> -3, 01 -> -1, 11 -> +1, 10 -> +3).
-void axis_llrs(float x, unsigned m, float k_mod, float inv_noise_var, float* out) {
-  const unsigned n_levels = 1U << m;
-  std::array<float, 8> dist{};
+/// The number of bits per axis is a template parameter so that every loop below
+/// unrolls and the Gray labels become constants (this runs for every coded bit).
+template <unsigned m>
+void axis_llrs(float x, float k_mod, float inv_noise_var, float* out) {
+  constexpr unsigned n_levels = 1U << m;
+  std::array<float, n_levels> dist{};
   for (unsigned k = 0; k < n_levels; ++k) {
     const float level =
         static_cast<float>(2 * static_cast<int>(k) - static_cast<int>(n_levels - 1));
@@ -43,6 +46,36 @@ void axis_llrs(float x, unsigned m, float k_mod, float inv_noise_var, float* out
     // The other axis adds the same distance to both hypotheses and cancels.
     out[j] = (d1 - d0) * inv_noise_var;
   }
+}
+
+// K_MOD = 1/sqrt(2), 1/sqrt(10), 1/sqrt(42): unit mean power (Table 17-11).
+const float kQpsk = 1.0F / std::sqrt(2.0F);
+const float k16Qam = 1.0F / std::sqrt(10.0F);
+const float k64Qam = 1.0F / std::sqrt(42.0F);
+
+/// demap_soft() without its checks, n_bpsc one of 1, 2, 4, 6.
+void demap_point(cf32 point, unsigned n_bpsc, float inv, float* out) {
+  switch (n_bpsc) {
+    case 1:  // BPSK: the bit rides on I alone, Q is pure noise
+      axis_llrs<1>(point.real(), 1.0F, inv, out);
+      return;
+    case 2:
+      axis_llrs<1>(point.real(), kQpsk, inv, out);
+      axis_llrs<1>(point.imag(), kQpsk, inv, out + 1);
+      return;
+    case 4:
+      axis_llrs<2>(point.real(), k16Qam, inv, out);
+      axis_llrs<2>(point.imag(), k16Qam, inv, out + 2);
+      return;
+    default:
+      axis_llrs<3>(point.real(), k64Qam, inv, out);
+      axis_llrs<3>(point.imag(), k64Qam, inv, out + 3);
+      return;
+  }
+}
+
+bool valid_bpsc(unsigned n_bpsc) {
+  return n_bpsc == 1 || n_bpsc == 2 || n_bpsc == 4 || n_bpsc == 6;
 }
 
 // ------------------------------------------------------------- puncturing
@@ -93,29 +126,25 @@ const std::vector<unsigned>* standard_permutation(unsigned n_cbps, unsigned n_bp
 void demap_soft(cf32 point, unsigned n_bpsc, float noise_var, std::span<float> out) {
   if (out.size() != n_bpsc) throw std::invalid_argument("demap_soft: out.size() != n_bpsc");
   if (!(noise_var > 0.0F)) throw std::invalid_argument("demap_soft: noise_var must be > 0");
-  const float inv = 1.0F / noise_var;
-  switch (n_bpsc) {
-    case 1:  // BPSK: the bit rides on I alone, Q is pure noise
-      axis_llrs(point.real(), 1, 1.0F, inv, out.data());
-      return;
-    case 2:
-    case 4:
-    case 6: {
-      // K_MOD = 1/sqrt(2), 1/sqrt(10), 1/sqrt(42): unit mean power (Table 17-11).
-      const unsigned m = n_bpsc / 2;
-      const float k_mod = m == 1 ? 1.0F / std::sqrt(2.0F)
-                                 : (m == 2 ? 1.0F / std::sqrt(10.0F) : 1.0F / std::sqrt(42.0F));
-      axis_llrs(point.real(), m, k_mod, inv, out.data());
-      axis_llrs(point.imag(), m, k_mod, inv, out.data() + m);
-      return;
-    }
-    default:
-      throw std::invalid_argument("demap_soft: n_bpsc must be 1, 2, 4 or 6");
+  if (!valid_bpsc(n_bpsc)) throw std::invalid_argument("demap_soft: n_bpsc must be 1, 2, 4 or 6");
+  demap_point(point, n_bpsc, 1.0F / noise_var, out.data());
+}
+
+void demap_symbol(std::span<const cf32> points, std::span<const float> noise_var, unsigned n_bpsc,
+                  std::span<float> out) {
+  if (!valid_bpsc(n_bpsc)) throw std::invalid_argument("demap_symbol: n_bpsc must be 1, 2, 4 or 6");
+  if (noise_var.size() != points.size() || out.size() != points.size() * n_bpsc) {
+    throw std::invalid_argument("demap_symbol: sizes do not match");
+  }
+  for (std::size_t d = 0; d < points.size(); ++d) {
+    if (!(noise_var[d] > 0.0F)) throw std::invalid_argument("demap_symbol: noise_var must be > 0");
+    demap_point(points[d], n_bpsc, 1.0F / noise_var[d], out.data() + d * n_bpsc);
   }
 }
 
-std::vector<float> deinterleave(std::span<const float> in, unsigned n_bpsc) {
+void deinterleave_into(std::span<const float> in, unsigned n_bpsc, std::span<float> out) {
   const auto n_cbps = static_cast<unsigned>(in.size());
+  if (out.size() != in.size()) throw std::invalid_argument("deinterleave: out.size() != in.size()");
   std::vector<unsigned> other;
   const std::vector<unsigned>* perm = standard_permutation(n_cbps, n_bpsc);
   if (perm == nullptr) {
@@ -123,8 +152,12 @@ std::vector<float> deinterleave(std::span<const float> in, unsigned n_bpsc) {
     perm = &other;
   }
   // interleave() sent input k to position perm[k]; fetch it back from there.
-  std::vector<float> out(n_cbps);
   for (unsigned k = 0; k < n_cbps; ++k) out[k] = in[(*perm)[k]];
+}
+
+std::vector<float> deinterleave(std::span<const float> in, unsigned n_bpsc) {
+  std::vector<float> out(in.size());
+  deinterleave_into(in, n_bpsc, out);
   return out;
 }
 

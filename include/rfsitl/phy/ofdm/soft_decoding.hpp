@@ -20,8 +20,19 @@ namespace rfsitl::phy::ofdm {
 /// subcarrier (> 0; infinity gives erasures). Precondition: out.size() == n_bpsc.
 void demap_soft(cf32 point, unsigned n_bpsc, float noise_var, std::span<float> out);
 
+/// demap_soft() of a whole symbol: point d with noise_var[d] into
+/// out[d * n_bpsc, (d + 1) * n_bpsc), the same values as one call per point.
+/// Preconditions: noise_var.size() == points.size(), out.size() ==
+/// points.size() * n_bpsc, n_bpsc one of 1, 2, 4, 6, every noise_var > 0.
+void demap_symbol(std::span<const cf32> points, std::span<const float> noise_var, unsigned n_bpsc,
+                  std::span<float> out);
+
 /// Inverse of interleave() for one symbol of soft values (n_cbps = in.size()).
 std::vector<float> deinterleave(std::span<const float> in, unsigned n_bpsc);
+
+/// deinterleave() into `out` without allocating (for the standard symbol sizes).
+/// Precondition: out.size() == in.size().
+void deinterleave_into(std::span<const float> in, unsigned n_bpsc, std::span<float> out);
 
 /// Re-inserts the punctured positions as erasures (llr 0), giving a rate-1/2
 /// stream of 2 * n_data_bits values. Precondition: in.size() matches the
