@@ -11,8 +11,10 @@ build's src/soapy folder (RFSITL_SOAPY_DIR, set by tests/CMakeLists.txt)."""
 
 import json
 import os
+import queue
 import shutil
 import subprocess
+import threading
 import time
 import unittest
 
@@ -53,25 +55,46 @@ def soapy_env():
     return env
 
 
+def line_reader(stream):
+    """A thread that reads `stream` line by line; returns next_line(timeout),
+    which gives the next line, "" at the end of the stream, or None when none
+    came within `timeout` seconds: a silent program never blocks a test."""
+    lines = queue.Queue()
+
+    def pump():
+        for line in stream:
+            lines.put(line)
+        lines.put("")
+    threading.Thread(target=pump, daemon=True).start()
+
+    def next_line(timeout):
+        try:
+            return lines.get(timeout=max(timeout, 0))
+        except queue.Empty:
+            return None
+    return next_line
+
+
 def run_program(test, text, *args, context=lambda: ""):
     """Runs `text` in a python of its own (soapy_env), ended with the test.
     Returns until(step, timeout): waits for the program's JSON line of that
     step ({"step": ..., ...}, one a line) and returns it, failing the test
-    with the program's output (and `context()`) if it does not come. until.proc
-    is the process (stdin a pipe), until.lines what it printed so far."""
+    with the program's output (and `context()`) if it does not come in time.
+    until.proc is the process (stdin a pipe), until.lines what it printed."""
     proc = subprocess.Popen([PYTHON, "-u", "-c", text, *args], env=soapy_env(),
                             stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
     test.addCleanup(proc.stdout.close)
     test.addCleanup(proc.stdin.close)
-    test.addCleanup(lambda: proc.poll() is None and proc.kill())
+    test.addCleanup(lambda: proc.poll() is None and (proc.kill(), proc.wait(10)))
+    next_line = line_reader(proc.stdout)
     steps, lines = {}, []
 
     def until(step, timeout=180):
         deadline = time.monotonic() + timeout
         while step not in steps:
-            line = proc.stdout.readline()
-            if not line or time.monotonic() > deadline:
+            line = next_line(deadline - time.monotonic())
+            if not line:
                 test.fail(f"no '{step}' from the Soapy program:\n" + "".join(lines) + context())
             lines.append(line)
             if line.startswith("{"):
