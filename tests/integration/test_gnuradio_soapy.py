@@ -79,10 +79,9 @@ class GnuRadioSoapyNodeTest(unittest.TestCase):
         if not os.path.exists(os.path.join(MODULE_DIR, "libSoapyRfsitl.so")):
             raise AssertionError("the SoapySDR module was not built in " + MODULE_DIR)
 
-    def test_soapy_flowgraph_exchanges_frames_with_the_emulator_block_flowgraph(self):
-        # Native pair 1 -> 2 beside the GNU Radio pair 3 (our blocks) <-> 4
-        # (stock Soapy blocks), 10 m apart each, all on one channel.
-        nodes = {1: (0, 30, 10), 2: (10, 30, 10), 3: (0, 0, 10), 4: (10, 0, 10)}
+    def start(self, nodes):
+        """An emulator of `nodes` whose 3 and 4 are external, waiting for both,
+        with gmsk_node.py on our blocks as node 3."""
         emu = Emulator(nodes, node_phy={3: {"type": "external"}, 4: {"type": "external"}},
                        ready_marker="waiting up to",
                        args=["--external-timeout", "5", *LOAD_TOLERANT])
@@ -90,6 +89,12 @@ class GnuRadioSoapyNodeTest(unittest.TestCase):
         self.addCleanup(emu.__exit__, None, None, None)
         gr3 = GnuRadioNode(emu, 3).start()
         self.addCleanup(gr3.stop)
+        return emu
+
+    def test_soapy_flowgraph_exchanges_frames_with_the_emulator_block_flowgraph(self):
+        # Native pair 1 -> 2 beside the GNU Radio pair 3 (our blocks) <-> 4
+        # (stock Soapy blocks), 10 m apart each, all on one channel.
+        emu = self.start({1: (0, 30, 10), 2: (10, 30, 10), 3: (0, 0, 10), 4: (10, 0, 10)})
         soapy4 = SoapyFlowgraph(emu, 4)
         self.addCleanup(soapy4.stop)
         self.assertTrue(soapy4.ready.wait(60) and soapy4.proc.poll() is None,
@@ -125,14 +130,7 @@ class GnuRadioSoapyNodeTest(unittest.TestCase):
                            text=True, timeout=120)
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
         script = os.path.join(out.name, "gmsk_soapy_node_grc.py")
-        emu = Emulator({3: (0, 0, 10), 4: (10, 0, 10)},
-                       node_phy={3: {"type": "external"}, 4: {"type": "external"}},
-                       ready_marker="waiting up to",
-                       args=["--external-timeout", "5", *LOAD_TOLERANT])
-        emu.__enter__()
-        self.addCleanup(emu.__exit__, None, None, None)
-        gr3 = GnuRadioNode(emu, 3).start()
-        self.addCleanup(gr3.stop)
+        emu = self.start({3: (0, 0, 10), 4: (10, 0, 10)})
         grc4 = SoapyFlowgraph(emu, 4, [PYTHON, "-u", script,
                                        "--socket-path", f"/tmp/rfsitl-{emu.net_base}.sock",
                                        "--node-id", "4", "--net-base", str(emu.net_base)])

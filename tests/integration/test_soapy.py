@@ -105,6 +105,28 @@ def run_program(test, text, *args, context=lambda: ""):
     return until
 
 
+def start_emulator(test, wait_for_nodes=True, socket=None, tick_samples=None):
+    """An emulator with nodes 1 and 2 external, stopped with the test;
+    `wait_for_nodes`: it waits for both before it runs, else it runs without
+    them after 1 s (they still wait for a program). `socket`: its external
+    socket (default /tmp/rfsitl-NET_BASE.sock); `tick_samples`: B (default the
+    harness's). Returns (emulator, socket path)."""
+    extra = "external:\n  start_timeout_s: %d\n" % (300 if wait_for_nodes else 1)
+    if socket:
+        extra += "  socket: %s\n" % socket
+    timing = list(LOAD_TOLERANT)
+    if tick_samples:
+        timing[timing.index("--tick") + 1] = str(tick_samples)
+    emu = Emulator({1: (0, 0, 10), 2: (15, 0, 10)},
+                   node_phy={1: {"type": "external"}, 2: {"type": "external"}},
+                   extra_yaml=extra,
+                   ready_marker="waiting up to" if wait_for_nodes else "rfsitl: ready",
+                   args=["--external-timeout", "5", *timing])
+    emu.__enter__()
+    test.addCleanup(emu.__exit__, None, None, None)
+    return emu, socket or f"/tmp/rfsitl-{emu.net_base}.sock"
+
+
 def soapy_util(*args, timeout=60):
     r = subprocess.run(["SoapySDRUtil", *args], capture_output=True, text=True,
                        env=soapy_env(), timeout=timeout)
@@ -228,24 +250,7 @@ class SoapyModuleTest(unittest.TestCase):
                                  + MODULE_DIR)
 
     def start(self, wait_for_nodes=True, socket=None, tick_samples=None):
-        """An emulator with nodes 1 and 2 external; `wait_for_nodes`: it waits
-        for both before it runs, else it runs without them after 1 s (they
-        still wait for a program). `socket`: its external socket (default
-        /tmp/rfsitl-NET_BASE.sock); `tick_samples`: B (default the harness's)."""
-        extra = "external:\n  start_timeout_s: %d\n" % (300 if wait_for_nodes else 1)
-        if socket:
-            extra += "  socket: %s\n" % socket
-        timing = list(LOAD_TOLERANT)
-        if tick_samples:
-            timing[timing.index("--tick") + 1] = str(tick_samples)
-        emu = Emulator({1: (0, 0, 10), 2: (15, 0, 10)},
-                       node_phy={1: {"type": "external"}, 2: {"type": "external"}},
-                       extra_yaml=extra,
-                       ready_marker="waiting up to" if wait_for_nodes else "rfsitl: ready",
-                       args=["--external-timeout", "5", *timing])
-        emu.__enter__()
-        self.addCleanup(emu.__exit__, None, None, None)
-        return emu, socket or f"/tmp/rfsitl-{emu.net_base}.sock"
+        return start_emulator(self, wait_for_nodes, socket, tick_samples)
 
     def program(self, text, *args, context=lambda: ""):
         """Runs `text` in a python of its own (soapy_env); returns its step

@@ -18,8 +18,9 @@ import subprocess
 import time
 import unittest
 
-from harness import ARRIVAL_S, LOAD_TOLERANT, Emulator
-from test_soapy import MODULE_DIR, line_reader, run_program, soapy_env, soapy_missing
+from harness import ARRIVAL_S
+from test_soapy import (MODULE_DIR, line_reader, run_program, soapy_env, soapy_missing,
+                        start_emulator)
 
 REMOTE_MODULE = "/usr/lib/x86_64-linux-gnu/SoapySDR/modules0.8/libremoteSupport.so"
 SERVER_PORT = 47132  # this project's range (47000-47999); inside the test's namespace
@@ -188,14 +189,7 @@ class SoapyRemoteTest(unittest.TestCase):
 
     def test_nodes_served_from_another_namespace_are_found_and_stream(self):
         ns, server_ip, _ = self.namespace()
-        emu = Emulator({1: (0, 0, 10), 2: (15, 0, 10)},
-                       node_phy={1: {"type": "external"}, 2: {"type": "external"}},
-                       extra_yaml="external:\n  start_timeout_s: 300\n",
-                       ready_marker="waiting up to",
-                       args=["--external-timeout", "5", *LOAD_TOLERANT])
-        emu.__enter__()
-        self.addCleanup(emu.__exit__, None, None, None)
-        sock = f"/tmp/rfsitl-{emu.net_base}.sock"
+        emu, sock = start_emulator(self)  # runs once both nodes joined
 
         env = soapy_env()
         env["SERVER_PRELOAD"] = env.pop("LD_PRELOAD", "")  # the server only, not the daemons
