@@ -21,6 +21,9 @@ PACKAGES=(
   iperf3
   # the SoapySDR module (driver=rfsitl, src/soapy/) and its test: headers, SoapySDRUtil, python
   libsoapysdr-dev soapysdr-tools python3-soapysdr
+  # SoapyRemote and its test (test_soapy_remote.py): the server, the client
+  # module, and the Avahi daemon without which Debian's server does not run
+  soapyremote-server soapysdr-module-remote avahi-daemon
 )
 # Debian packages npm separately from nodejs; other nodejs builds bring their own.
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)
