@@ -90,6 +90,15 @@ disc = json.dumps({"discovery": 1, "nodes": [
 w('wire_protocol', 'm7_discover', bytes([7, 0]) + disc_req)
 w('wire_protocol', 'm7_discovery_answer', bytes([7, 1]) + disc)
 w('wire_protocol', 'm2_discover_raw', bytes([2]) + header(9, extra=len(disc_req)) + disc_req)
+hello_x = json.dumps({"node_id": 3, "role": "samples", "program": "soapy", "exclusive": True}).encode()
+w('wire_protocol', 'm1_hello_exclusive', bytes([1]) + hello_x)
+wel_s = json.dumps({"protocol": 1, "node_id": 5, "sample_rate_hz": 1e6, "tick_samples": 250,
+                    "time_mode": "realtime", "tx_report": 1}).encode()
+w('wire_protocol', 'm3_welcome_tx_report', bytes([3, 0]) + wel_s)
+report = struct.pack('<IIQ', 1, 0, 7)
+w('wire_protocol', 'm8_tx_report', bytes([8, 2]) + struct.pack('<4f', 0.5, 0, 0, 0.5) + report)
+w('wire_protocol', 'm8_tx_no_report', bytes([8, 1]) + struct.pack('<2f', 0.5, 0))
+w('wire_protocol', 'm8_tx_short_report', bytes([8, 0]) + report[:9])
 
 # dashboard_http: requests as a browser, curl or a script sends them
 w('dashboard_http', 'get_index', 'GET / HTTP/1.1\r\nHost: 127.0.0.1:15700\r\n\r\n')

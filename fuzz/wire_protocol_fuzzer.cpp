@@ -1,7 +1,7 @@
 /// External-transceiver protocol (wire_protocol.hpp, message_channel.hpp):
 /// every place that decodes a message from the other process.
 ///
-/// Input: [mode byte][mode arguments...]. Modes (mode byte % 7):
+/// Input: [mode byte][mode arguments...]. Modes (mode byte % 9):
 ///  0  header framing: the rest is one SOCK_SEQPACKET datagram, read back with
 ///     MessageChannel::receive. kOk only when magic and sizes add up
 ///     (32 + 8 count + extra_bytes == datagram), and then samples/extra have
@@ -31,12 +31,20 @@
 ///     (non-empty reason); (byte 1 odd): discover() against the stand-in
 ///     emulator answering kDiscovery + the rest, which must return nodes that
 ///     read_discovery() checked or throw std::runtime_error naming the socket.
+///  8  kTx of the samples role (make_sample_port_transceiver over a NodeLink on
+///     a socketpair, a new connection each time): byte 1 = sample count n,
+///     then n samples, the rest as extra (a TxReport). A tick with too many
+///     samples or an extra that read_tx_report refuses drops the connection
+///     and counts nothing; else the node's overflow counter grows by exactly
+///     the report's rx_overflows (a new connection counts from 0) and the
+///     output is the samples, then zeros.
 /// (Modes 1 and 2 accept a kDiscovery answer too: a raw datagram may be a
 /// well-formed discovery request.)
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstddef>
@@ -45,6 +53,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -54,13 +63,14 @@
 #include <nlohmann/json.hpp>
 
 #include "fuzz_check.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
+#include "rfsitl/external/client/message_channel.hpp"
+#include "rfsitl/external/client/tx_report.hpp"
+#include "rfsitl/external/client/wire_protocol.hpp"
 #include "rfsitl/external/external_hub.hpp"
 #include "rfsitl/external/external_transceivers.hpp"
-#include "rfsitl/external/message_channel.hpp"
 #include "rfsitl/external/node_link.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
-#include "rfsitl/external/wire_protocol.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
 using namespace rfsitl;
@@ -259,7 +269,18 @@ void discovery_answer(std::vector<std::uint8_t> answer) {
   }
 }
 
-// ---- modes 5, 6: replies the remote-transceiver proxy decodes -----------------------
+// ---- modes 5, 6, 8: replies the proxies decode ---------------------------------------
+
+/// Offers `link` a new connection (a socketpair) and lets `radio` adopt it at
+/// tick `tick`; returns the program's end, which the caller closes.
+int connect_proxy(NodeLink& link, phy::Transceiver& radio, std::uint64_t tick) {
+  int fds[2];
+  FUZZ_CHECK(::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, fds) == 0, "socketpair");
+  link.offer(MessageChannel(fds[0]), "fuzz");
+  radio.begin_tick(tick, static_cast<SampleTime>(tick * kTickSamples));
+  FUZZ_CHECK(link.connected(), "offered connection not adopted");
+  return fds[1];
+}
 
 struct Proxy {
   std::shared_ptr<NodeLink> link = std::make_shared<NodeLink>(7, kReplyTimeoutMs);
@@ -287,12 +308,7 @@ void proxy_reply(bool rx, const std::uint8_t* data, std::size_t size) {
   const std::uint16_t flags = data[0];
   ++data;
   --size;
-  int fds[2];
-  FUZZ_CHECK(::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, fds) == 0, "socketpair");
-  p->link->offer(MessageChannel(fds[0]), "fuzz");
-  ++p->tick;
-  p->radio->begin_tick(p->tick, static_cast<SampleTime>(p->tick * kTickSamples));
-  FUZZ_CHECK(p->link->connected(), "offered connection not adopted");
+  const int peer = connect_proxy(*p->link, *p->radio, ++p->tick);
   std::vector<std::uint8_t> reply;
   if (rx) {
     reply = framed(MsgType::kRxResult, flags, p->tick, data, size);
@@ -305,7 +321,7 @@ void proxy_reply(bool rx, const std::uint8_t* data, std::size_t size) {
     std::memcpy(reply.data(), &h, sizeof h);
     reply.insert(reply.end(), data, data + n * sizeof(cf32));
   }
-  send_raw(fds[1], reply);
+  send_raw(peer, reply);
   if (rx) {
     const std::vector<cf32> in(kTickSamples);
     DecodeBounds h;
@@ -322,7 +338,56 @@ void proxy_reply(bool rx, const std::uint8_t* data, std::size_t size) {
       FUZZ_CHECK(n == 0 && !p->link->connected(), "oversized kTx not refused");
     }
   }
-  ::close(fds[1]);
+  ::close(peer);
+}
+
+void samples_reply(const std::uint8_t* data, std::size_t size) {
+  struct Port {
+    std::shared_ptr<NodeLink> link = std::make_shared<NodeLink>(3, kReplyTimeoutMs);
+    std::atomic<std::uint64_t> overflows{0};
+    std::unique_ptr<phy::Transceiver> radio =
+        make_sample_port_transceiver(link, kTickSamples, overflows);
+    std::uint64_t tick = 0;
+  };
+  static Port* p = new Port;
+  if (size == 0) return;
+  const std::size_t n = std::min<std::size_t>(data[0], (size - 1) / sizeof(cf32));
+  const std::uint8_t* samples = data + 1;
+  const std::uint8_t* extra = samples + n * sizeof(cf32);
+  const std::size_t extra_size = size - 1 - n * sizeof(cf32);
+  const int peer = connect_proxy(*p->link, *p->radio, ++p->tick);
+  std::vector<std::uint8_t> reply = framed(MsgType::kTx, 0, p->tick, nullptr, 0);
+  MsgHeader h;
+  std::memcpy(&h, reply.data(), sizeof h);
+  h.count = static_cast<std::uint32_t>(n);
+  h.extra_bytes = static_cast<std::uint32_t>(extra_size);
+  std::memcpy(reply.data(), &h, sizeof h);
+  reply.insert(reply.end(), samples, samples + n * sizeof(cf32) + extra_size);
+  send_raw(peer, reply);
+  // What the proxy must make of it.
+  std::optional<TxReport> report;
+  bool report_ok = true;
+  try {
+    report = read_tx_report({extra, extra_size});
+  } catch (const TxReportError&) {
+    report_ok = false;
+  }
+  const bool accepted = report_ok && n <= kTickSamples;
+  const std::uint64_t before = p->overflows.load();
+  std::vector<cf32> out(kTickSamples, cf32{1.0F, 1.0F});
+  const std::size_t sent = p->radio->transmit(out);
+  const std::uint64_t added = p->overflows.load() - before;
+  FUZZ_CHECK(p->link->connected() == accepted, "kTx of %zu samples, %zu extra bytes: %s", n,
+             extra_size, accepted ? "dropped" : "not dropped");
+  const std::uint64_t expected = accepted && report ? report->rx_overflows : 0;
+  FUZZ_CHECK(added == expected, "counter grew by %llu, expected %llu",
+             static_cast<unsigned long long>(added), static_cast<unsigned long long>(expected));
+  FUZZ_CHECK(sent <= (accepted ? n : 0), "transmit returned %zu for %zu samples", sent, n);
+  for (std::size_t i = sent; i < out.size(); ++i) {
+    FUZZ_CHECK(out[i] == cf32{}, "sample %zu after the %zu sent is not zero", i, sent);
+  }
+  if (p->link->connected()) p->link->drop("fuzz: next input");
+  ::close(peer);
 }
 
 }  // namespace
@@ -338,7 +403,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
-  const int mode = data[0] % 8;
+  const int mode = data[0] % 9;
   ++data;
   --size;
   switch (mode) {
@@ -374,6 +439,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       } else {
         discovery_answer(framed(MsgType::kDiscovery, 0, 0, data + 1, size - 1));
       }
+      break;
+    case 8:
+      samples_reply(data, size);
       break;
   }
   return 0;

@@ -47,7 +47,7 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 # Everything the installed module is built from.
-sources=(gr-rfsitl src/external include/rfsitl/external include/rfsitl/common/types.hpp
+sources=(gr-rfsitl src/external/client include/rfsitl/external/client include/rfsitl/common
          scripts/build_gr.sh)
 
 # Where the installed package lives, found the way the interpreter finds it

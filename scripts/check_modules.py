@@ -85,9 +85,8 @@ def read_cmake_graph(root):
                     else:
                         module = name[len("rfsitl_"):]
                     target_module[name] = module
-                    # A target that compiles another module's sources (the
-                    # SoapySDR module builds the external client's, as
-                    # position-independent code) depends on that module.
+                    # A target that compiles another module's sources
+                    # depends on that module.
                     for other in re.findall(r"/src/([a-z_]+)/[^/\s]+\.cpp", args):
                         compiled_in.setdefault(module, set()).add(other)
                 else:

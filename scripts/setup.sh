@@ -23,6 +23,9 @@ PACKAGES=(
   libsoapysdr-dev soapysdr-tools python3-soapysdr
   # distributed runs (mpirun -n K rfsitl run ...): Open MPI, its headers and launcher
   libopenmpi-dev openmpi-bin
+  # SoapyRemote and its test (test_soapy_remote.py): the server, the client
+  # module, and the Avahi daemon without which Debian's server does not run
+  soapyremote-server soapysdr-module-remote avahi-daemon
 )
 # Debian packages npm separately from nodejs; other nodejs builds bring their own.
 command -v npm >/dev/null 2>&1 || PACKAGES+=(npm)

@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 
 namespace gr::rfsitl {
 

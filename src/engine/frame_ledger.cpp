@@ -31,6 +31,7 @@ NodeCountersSnapshot NodeCounters::snapshot() const {
   s.ip_refused = rd(ip_refused);
   s.to_agent_dropped = rd(to_agent_dropped);
   s.external_stalls = rd(external_stalls);
+  s.external_overflows = rd(external_overflows);
   s.mac = mac.snapshot();
   return s;
 }

@@ -21,7 +21,8 @@
 
 #include "rfsitl/common/log_text.hpp"
 #include "rfsitl/common/unix_socket_path.hpp"
-#include "rfsitl/external/handshake.hpp"
+#include "rfsitl/external/client/handshake.hpp"
+#include "rfsitl/external/client/tx_report.hpp"
 #include "rfsitl/external/repeat_limiter.hpp"
 
 namespace rfsitl::external {
@@ -274,9 +275,18 @@ class Hub final : public ExternalHub {
                             role_name(spec.role) + "', the program connected as '" + hello.role +
                             "'");
     }
+    // This thread alone admits, so the check and the offer below are one step
+    // for every other hello: of two processes that ask for the node at the
+    // same instant, exclusively, the second is refused.
+    if (hello.exclusive && links_.at(spec.index)->claimed()) {
+      return reject(ch, "node " + std::to_string(hello.node_id) +
+                            " is already claimed by another program (this program asked for it "
+                            "exclusively; taking it over would drop the other)");
+    }
+    const bool samples = spec.role == Role::kSamples;
     const std::string text = welcome_json(
         {spec.id, settings_.sample_rate_hz, settings_.tick_samples, settings_.virtual_time,
-         spec.role == Role::kTransceiver ? spec.phy_json : std::string()});
+         samples ? std::string() : spec.phy_json, samples ? kTxReportVersion : 0U});
     MsgHeader h;
     h.type = static_cast<std::uint16_t>(MsgType::kWelcome);
     if (!ch.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()})) return;

@@ -49,7 +49,8 @@ engine::TransceiverFactory ExternalRuntime::transceiver_factory() const {
     if (!link) return phy::make_transceiver(phy.type, phy.settings);
     link->count_stalls_in(counters.external_stalls);
     if (phy.external_program()) {
-      return make_sample_port_transceiver(link, scenario_.timing.tick_samples);
+      return make_sample_port_transceiver(link, scenario_.timing.tick_samples,
+                                          counters.external_overflows);
     }
     return make_remote_transceiver(link, phy);
   };

@@ -1,8 +1,11 @@
 /// Role "samples": B samples each way per tick with a program that owns the
 /// node's net port (a GNU Radio flowgraph).
 #include <algorithm>
+#include <atomic>
+#include <optional>
 #include <vector>
 
+#include "rfsitl/external/client/tx_report.hpp"
 #include "rfsitl/external/external_transceivers.hpp"
 
 namespace rfsitl::external {
@@ -10,8 +13,9 @@ namespace {
 
 class SamplePortTransceiver final : public phy::Transceiver {
  public:
-  SamplePortTransceiver(std::shared_ptr<NodeLink> link, std::uint32_t tick_samples)
-      : link_(std::move(link)), rx_(tick_samples, cf32{}) {}
+  SamplePortTransceiver(std::shared_ptr<NodeLink> link, std::uint32_t tick_samples,
+                        std::atomic<std::uint64_t>& overflows)
+      : link_(std::move(link)), rx_(tick_samples, cf32{}), overflows_(overflows) {}
 
   // The program's frames never pass through the emulator's queue or ledger.
   std::size_t max_payload() const override { return 0; }
@@ -23,7 +27,10 @@ class SamplePortTransceiver final : public phy::Transceiver {
   void begin_tick(std::uint64_t tick, SampleTime time) override {
     tick_ = tick;
     time_ = time;
-    if (link_->adopt()) joined_now_ = true;
+    if (link_->adopt()) {
+      joined_now_ = true;
+      reported_overflows_ = 0;  // a new connection's reports count from its welcome
+    }
   }
 
   // transmit() is the tick's round trip, so it runs every tick; and the
@@ -49,7 +56,7 @@ class SamplePortTransceiver final : public phy::Transceiver {
       if (reply && reply->samples.size() > out.size()) {
         link_->drop("sent " + std::to_string(reply->samples.size()) + " samples for a tick of " +
                     std::to_string(out.size()));
-      } else if (reply) {
+      } else if (reply && take_report(*reply)) {
         n = reply->samples.size();
         std::copy(reply->samples.begin(), reply->samples.end(), out.begin());
       }
@@ -70,18 +77,40 @@ class SamplePortTransceiver final : public phy::Transceiver {
   void reset_receiver() override {}
 
  private:
+  // The process's kTx report (tx_report.hpp), if any, into the node's
+  // counters. False after dropping a process whose extra is no report.
+  bool take_report(const Message& reply) {
+    std::optional<TxReport> report;
+    try {
+      report = read_tx_report(reply.extra);
+    } catch (const TxReportError& e) {
+      link_->drop(e.what());
+      return false;
+    }
+    // Totals since the welcome: only the growth is new. (One that shrinks
+    // would be the process's mistake; it adds nothing.)
+    if (report && report->rx_overflows > reported_overflows_) {
+      overflows_.fetch_add(report->rx_overflows - reported_overflows_, std::memory_order_relaxed);
+      reported_overflows_ = report->rx_overflows;
+    }
+    return true;
+  }
+
   std::shared_ptr<NodeLink> link_;
   std::vector<cf32> rx_;  // this tick's received samples, sent with the next tick
   std::uint64_t tick_ = 0;
   SampleTime time_ = 0;
   bool joined_now_ = false;
+  std::atomic<std::uint64_t>& overflows_;  // the node's NodeCounters::external_overflows
+  std::uint64_t reported_overflows_ = 0;   // the connection's latest total
 };
 
 }  // namespace
 
-std::unique_ptr<phy::Transceiver> make_sample_port_transceiver(std::shared_ptr<NodeLink> link,
-                                                               std::uint32_t tick_samples) {
-  return std::make_unique<SamplePortTransceiver>(std::move(link), tick_samples);
+std::unique_ptr<phy::Transceiver> make_sample_port_transceiver(
+    std::shared_ptr<NodeLink> link, std::uint32_t tick_samples,
+    std::atomic<std::uint64_t>& overflows) {
+  return std::make_unique<SamplePortTransceiver>(std::move(link), tick_samples, overflows);
 }
 
 }  // namespace rfsitl::external

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "rfsitl/common/retry_backoff.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 

@@ -7,7 +7,10 @@
 ///                   /tmp/rfsitl-*.sock that answers)
 ///   node=ID         the node to be (default: the only unclaimed one)
 ///   takeover=1      claim a node another program holds (the emulator then
-///                   drops that program: how a crashed application rejoins)
+///                   drops that program: how a crashed application rejoins);
+///                   without it the claim is exclusive: the emulator refuses
+///                   it while another program holds the node, even one that
+///                   claimed it at the same instant
 ///   buffer_ms=MS    RX buffer in virtual milliseconds (default 1000); an
 ///                   application that falls further behind gets
 ///                   SOAPY_SDR_OVERFLOW
@@ -20,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 #include "rfsitl_device.hpp"
 
 namespace rfsitl::soapy {
@@ -171,7 +174,17 @@ SoapySDR::Device* make_rfsitl(const SoapySDR::Kwargs& args) {
   s.node_id = f.node.node_id;
   s.program = "soapy";
   s.rx_buffer_s = buffer_s;
-  return new RfsitlDevice(f.socket, f.node, s);
+  s.takeover = takeover;
+  try {
+    return new RfsitlDevice(f.socket, f.node, s);
+  } catch (const external::ConnectRejected& e) {
+    // Discovery said the node was free, and another program claimed it since
+    // (the emulator admits one exclusive claim at a time), or the emulator
+    // refused for another reason: say which.
+    throw std::runtime_error("rfsitl: node " + std::to_string(f.node.node_id) + " of " + f.socket +
+                             ": the emulator refused the claim: " + e.reason() +
+                             (takeover ? "" : " (takeover=1 takes a claimed node over)"));
+  }
 }
 
 [[maybe_unused]] const SoapySDR::Registry registration("rfsitl", &find_rfsitl, &make_rfsitl,

@@ -58,7 +58,9 @@ SoapySDR::Kwargs RfsitlDevice::getHardwareInfo() const {
           {"tick_samples", std::to_string(streamer_->tick_samples())},
           {"rx_overflows", std::to_string(streamer_->overflows())},
           {"tx_underflows", std::to_string(streamer_->underflows())},
-          {"tx_late_bursts", std::to_string(streamer_->late_bursts())}};
+          {"tx_late_bursts", std::to_string(streamer_->late_bursts())},
+          {"link", streamer_->link_state()},
+          {"rejoins", std::to_string(streamer_->rejoins())}};
 }
 
 size_t RfsitlDevice::getNumChannels(int direction) const {

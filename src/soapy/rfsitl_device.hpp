@@ -13,7 +13,7 @@
 #include <string>
 
 #include "node_streamer.hpp"
-#include "rfsitl/external/handshake.hpp"
+#include "rfsitl/external/client/handshake.hpp"
 #include "sample_formats.hpp"
 
 namespace rfsitl::soapy {
@@ -92,9 +92,10 @@ class RfsitlDevice final : public SoapySDR::Device {
   double getBandwidth(int direction, size_t channel) const override;
   SoapySDR::RangeList getBandwidthRange(int direction, size_t channel) const override;
 
-  /// Sensor "connected": "true" until the emulator closes the connection, so
-  /// that an application whose stream blocks swallow errors (GNU Radio's) can
-  /// notice that the emulator is gone.
+  /// Sensor "connected": "false" from the moment the emulator closed the
+  /// connection until the device joined one again, so that an application
+  /// whose stream blocks swallow errors (GNU Radio's) can notice that the
+  /// emulator is gone.
   std::vector<std::string> listSensors() const override;
   SoapySDR::ArgInfo getSensorInfo(const std::string& key) const override;
   std::string readSensor(const std::string& key) const override;

@@ -139,6 +139,22 @@ void StreamBuffers::close() {
   changed_.notify_all();
 }
 
+void StreamBuffers::reopen(SampleTime t) {
+  {
+    std::lock_guard lock(mutex_);
+    rx_.clear();
+    rx_buffered_ = 0;
+    overflow_pending_ = false;
+    tx_.clear();
+    tx_queued_ = 0;
+    tx_floor_ = tx_next_ = now_ = t;
+    in_burst_ = false;
+    closed_ = false;
+    error_reported_ = false;
+  }
+  changed_.notify_all();  // a writer waiting for room has it now
+}
+
 void StreamBuffers::take_rx(SampleTime t, std::span<const cf32> rx) {
   if (!rx_active_ || rx.empty()) return;
   Chunk c;

@@ -68,6 +68,11 @@ class StreamBuffers {
   void on_tick(SampleTime t, std::span<const cf32> rx, std::span<cf32> tx);
   /// The emulator is gone: waiting calls return, later ones fail.
   void close();
+  /// A new connection (an emulator that came back) whose ticks start at `t`:
+  /// what was buffered for the old one's virtual time is dropped (RX chunks,
+  /// queued bursts, a pending overflow), and calls work again. Tunings, the
+  /// RX stream's state, TX events and the counters stay.
+  void reopen(SampleTime t);
 
   /// The start of the latest tick (virtual samples).
   SampleTime now() const;

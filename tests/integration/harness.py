@@ -355,7 +355,7 @@ def assert_accounted(test, summary):
         test.assertEqual(n["handed_in"], outcomes, f"node {n['id']} books do not balance: {n}")
 
 
-# --- external transceivers (include/rfsitl/external/wire_protocol.hpp) -------------
+# --- external transceivers (include/rfsitl/external/client/wire_protocol.hpp) -------------
 
 MSG_HEADER = "<IHHQQII"  # magic, type, flags, tick, time, count, extra_bytes
 MAGIC = 0x58534652

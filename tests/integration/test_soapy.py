@@ -11,8 +11,10 @@ build's src/soapy folder (RFSITL_SOAPY_DIR, set by tests/CMakeLists.txt)."""
 
 import json
 import os
+import queue
 import shutil
 import subprocess
+import threading
 import time
 import unittest
 
@@ -51,6 +53,78 @@ def soapy_env():
         # python and SoapySDRUtil keep memory to their end; only the module is ours.
         env["ASAN_OPTIONS"] = "detect_leaks=0"
     return env
+
+
+def line_reader(stream):
+    """A thread that reads `stream` line by line; returns next_line(timeout),
+    which gives the next line, "" at the end of the stream, or None when none
+    came within `timeout` seconds: a silent program never blocks a test."""
+    lines = queue.Queue()
+
+    def pump():
+        for line in stream:
+            lines.put(line)
+        lines.put("")
+    threading.Thread(target=pump, daemon=True).start()
+
+    def next_line(timeout):
+        try:
+            return lines.get(timeout=max(timeout, 0))
+        except queue.Empty:
+            return None
+    return next_line
+
+
+def run_program(test, text, *args, context=lambda: ""):
+    """Runs `text` in a python of its own (soapy_env), ended with the test.
+    Returns until(step, timeout): waits for the program's JSON line of that
+    step ({"step": ..., ...}, one a line) and returns it, failing the test
+    with the program's output (and `context()`) if it does not come in time.
+    until.proc is the process (stdin a pipe), until.lines what it printed."""
+    proc = subprocess.Popen([PYTHON, "-u", "-c", text, *args], env=soapy_env(),
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    test.addCleanup(proc.stdout.close)
+    test.addCleanup(proc.stdin.close)
+    test.addCleanup(lambda: proc.poll() is None and (proc.kill(), proc.wait(10)))
+    next_line = line_reader(proc.stdout)
+    steps, lines = {}, []
+
+    def until(step, timeout=180):
+        deadline = time.monotonic() + timeout
+        while step not in steps:
+            line = next_line(deadline - time.monotonic())
+            if not line:
+                test.fail(f"no '{step}' from the Soapy program:\n" + "".join(lines) + context())
+            lines.append(line)
+            if line.startswith("{"):
+                j = json.loads(line)
+                steps[j["step"]] = j
+        return steps[step]
+    until.proc, until.lines = proc, lines
+    return until
+
+
+def start_emulator(test, wait_for_nodes=True, socket=None, tick_samples=None):
+    """An emulator with nodes 1 and 2 external, stopped with the test;
+    `wait_for_nodes`: it waits for both before it runs, else it runs without
+    them after 1 s (they still wait for a program). `socket`: its external
+    socket (default /tmp/rfsitl-NET_BASE.sock); `tick_samples`: B (default the
+    harness's). Returns (emulator, socket path)."""
+    extra = "external:\n  start_timeout_s: %d\n" % (300 if wait_for_nodes else 1)
+    if socket:
+        extra += "  socket: %s\n" % socket
+    timing = list(LOAD_TOLERANT)
+    if tick_samples:
+        timing[timing.index("--tick") + 1] = str(tick_samples)
+    emu = Emulator({1: (0, 0, 10), 2: (15, 0, 10)},
+                   node_phy={1: {"type": "external"}, 2: {"type": "external"}},
+                   extra_yaml=extra,
+                   ready_marker="waiting up to" if wait_for_nodes else "rfsitl: ready",
+                   args=["--external-timeout", "5", *timing])
+    emu.__enter__()
+    test.addCleanup(emu.__exit__, None, None, None)
+    return emu, socket or f"/tmp/rfsitl-{emu.net_base}.sock"
 
 
 def soapy_util(*args, timeout=60):
@@ -175,19 +249,13 @@ class SoapyModuleTest(unittest.TestCase):
             raise AssertionError("SoapySDR is installed but the module was not built in "
                                  + MODULE_DIR)
 
-    def start(self, wait_for_nodes=True):
-        """An emulator with nodes 1 and 2 external; `wait_for_nodes`: it waits
-        for both before it runs, else it runs without them after 1 s (they
-        still wait for a program)."""
-        emu = Emulator({1: (0, 0, 10), 2: (15, 0, 10)},
-                       node_phy={1: {"type": "external"}, 2: {"type": "external"}},
-                       extra_yaml="external:\n  start_timeout_s: %d\n"
-                       % (300 if wait_for_nodes else 1),
-                       ready_marker="waiting up to" if wait_for_nodes else "rfsitl: ready",
-                       args=["--external-timeout", "5", *LOAD_TOLERANT])
-        emu.__enter__()
-        self.addCleanup(emu.__exit__, None, None, None)
-        return emu, f"/tmp/rfsitl-{emu.net_base}.sock"
+    def start(self, wait_for_nodes=True, socket=None, tick_samples=None):
+        return start_emulator(self, wait_for_nodes, socket, tick_samples)
+
+    def program(self, text, *args, context=lambda: ""):
+        """Runs `text` in a python of its own (soapy_env); returns its step
+        reader (run_program)."""
+        return run_program(self, text, *args, context=context)
 
     def test_find_lists_every_waiting_node_and_probe_shows_the_device(self):
         emu, sock = self.start(wait_for_nodes=False)
@@ -215,24 +283,8 @@ class SoapyModuleTest(unittest.TestCase):
 
     def test_timed_burst_arrives_at_its_virtual_time(self):
         emu, sock = self.start()
-        proc = subprocess.Popen([PYTHON, "-u", "-c", NODE_PROGRAM, sock], env=soapy_env(),
-                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        self.addCleanup(proc.stdout.close)
-        self.addCleanup(lambda: proc.poll() is None and proc.kill())
-        steps, lines = {}, []
-
-        def until(step, timeout=180):
-            deadline = time.monotonic() + timeout
-            while step not in steps:
-                line = proc.stdout.readline()
-                if not line or time.monotonic() > deadline:
-                    self.fail(f"no '{step}' from the Soapy program:\n" + "".join(lines)
-                              + "".join(emu.output[-30:]))
-                lines.append(line)
-                if line.startswith("{"):
-                    j = json.loads(line)
-                    steps[j["step"]] = j
-            return steps[step]
+        until = self.program(NODE_PROGRAM, sock, context=lambda: "".join(emu.output[-30:]))
+        lines = until.lines
 
         self.assertEqual(until("shared")["gain"], -3.0)
         self.assertIn("already claimed by another program; pass takeover=1",
@@ -255,7 +307,156 @@ class SoapyModuleTest(unittest.TestCase):
         s = until("stopped", timeout=ARRIVAL_S)
         self.assertEqual(s["ret"], -2)  # SOAPY_SDR_STREAM_ERROR
         until("closed", timeout=ARRIVAL_S)
-        self.assertEqual(proc.wait(ARRIVAL_S), 0, "".join(lines))
+        self.assertEqual(until.proc.wait(ARRIVAL_S), 0, "".join(lines))
+
+    def test_overflows_of_a_program_that_never_reads_reach_the_node_counters(self):
+        emu, sock = self.start(wait_for_nodes=False)
+        until = self.program(NEVER_READS, sock)
+        seen = until("overflowed")["rx_overflows"]
+        self.assertGreater(seen, 0)
+        # Reported with the module's next answer to a tick: /api/stats has it.
+        emu.wait_until(lambda st: any(n["id"] == 1 and n["external_overflows"] > 0
+                                      for n in st["nodes"]), what="node 1's overflows")
+        until.proc.stdin.write("done\n")
+        until.proc.stdin.flush()
+        last = until("closed")["rx_overflows"]
+        self.assertEqual(until.proc.wait(ARRIVAL_S), 0, "".join(until.lines))
+        summary = emu.stop()
+        counted = [n["external_overflows"] for n in summary["nodes"] if n["id"] == 1][0]
+        # Every report the emulator read is a total the device had reached.
+        self.assertGreater(counted, 0)
+        self.assertLessEqual(counted, last)
+        self.assertEqual([n["external_overflows"] for n in summary["nodes"] if n["id"] == 2],
+                         [0])
+
+    def test_device_rejoins_an_emulator_restarted_on_its_socket(self):
+        sock = os.path.join(self.tmp_dir(), "emu.sock")
+        first, _ = self.start(wait_for_nodes=False, socket=sock)
+        until = self.program(REJOINS, sock)
+        until("streaming")
+        first.stop()
+        self.assertEqual(until("lost")["ret"], -2)  # SOAPY_SDR_STREAM_ERROR
+        second, _ = self.start(wait_for_nodes=False, socket=sock)
+        back = until("back", timeout=ARRIVAL_S * 2)
+        self.assertEqual(back["rejoins"], "1")
+        self.assertEqual(back["link"], "connected")
+        self.assertGreater(back["read"], 0)
+        self.assertEqual(back["connected"], "true")
+        # Samples and hardware time are the second emulator's: within the RX
+        # buffer (1 s of virtual time) of each other.
+        self.assertLess(abs(back["hw_time_ns"] - back["time_ns"]), 1.1e9, back)
+        until("closed")
+        self.assertEqual(until.proc.wait(ARRIVAL_S), 0, "".join(until.lines))
+        summary = second.stop()
+        joined = [n for n in summary["external"]["nodes"] if n["id"] == 1][0]
+        self.assertEqual(joined["joins"], 1)
+
+    def test_device_does_not_rejoin_an_emulator_with_another_tick_and_says_why(self):
+        sock = os.path.join(self.tmp_dir(), "emu.sock")
+        first, _ = self.start(wait_for_nodes=False, socket=sock)
+        until = self.program(REJOINS, sock)
+        until("streaming")
+        first.stop()
+        until("lost")
+        second, _ = self.start(wait_for_nodes=False, socket=sock, tick_samples=2000)
+        stuck = until("stopped", timeout=ARRIVAL_S * 2)
+        self.assertIn("2000 per tick; this device has", stuck["link"])
+        self.assertIn("make a new device", stuck["link"])
+        self.assertEqual(until.proc.wait(ARRIVAL_S), 0, "".join(until.lines))
+
+    def test_of_two_programs_claiming_one_node_at_once_one_gets_it(self):
+        emu, sock = self.start(wait_for_nodes=False)
+        # Both pass the discovery check (the node is free), then both claim;
+        # the emulator admits the first exclusive claim only.
+        procs = [subprocess.Popen([PYTHON, "-u", "-c", CLAIM_AT_ONCE, sock], env=soapy_env(),
+                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True)
+                 for _ in range(2)]
+        for p in procs:
+            self.addCleanup(lambda p=p: p.poll() is None and p.kill())
+        # "claimed" (then it holds the node until its stdin closes), or an
+        # exit with the error: each comes without the other process's help.
+        first_lines = [p.stdout.readline() for p in procs]
+        outs = [p.communicate(timeout=120) for p in procs]
+        got = [line for line in first_lines if line.startswith("claimed")]
+        refused = [e for _, e in outs if "refused the claim" in e or "already claimed" in e]
+        self.assertEqual((len(got), len(refused)), (1, 1), (first_lines, outs))
+
+    def tmp_dir(self):
+        import tempfile
+        d = tempfile.TemporaryDirectory(prefix="rfsitl-soapy-")
+        self.addCleanup(d.cleanup)
+        return d.name
+
+
+# Activates RX and never reads, with a 20 ms buffer: it overflows at once.
+NEVER_READS = r"""
+import json, sys, time
+import SoapySDR
+from SoapySDR import SOAPY_SDR_RX, SOAPY_SDR_CF32
+d = SoapySDR.Device(dict(driver="rfsitl", socket=sys.argv[1], node="1", buffer_ms="20"))
+rx = d.setupStream(SOAPY_SDR_RX, SOAPY_SDR_CF32)
+d.activateStream(rx)
+def count():
+    return int(d.getHardwareInfo()["rx_overflows"])
+deadline = time.monotonic() + 120
+while count() == 0 and time.monotonic() < deadline:
+    time.sleep(0.05)
+print(json.dumps({"step": "overflowed", "rx_overflows": count()}), flush=True)
+sys.stdin.readline()  # until the test has seen the emulator count it
+d.deactivateStream(rx)
+d.closeStream(rx)
+print(json.dumps({"step": "closed", "rx_overflows": count()}), flush=True)
+"""
+
+# Streams, loses its emulator, and reads on until it is back (or says why not).
+REJOINS = r"""
+import json, sys, time
+import numpy as np
+import SoapySDR
+from SoapySDR import SOAPY_SDR_RX, SOAPY_SDR_CF32, SOAPY_SDR_TIMEOUT, SOAPY_SDR_OVERFLOW
+def say(**kw):
+    print(json.dumps(kw), flush=True)
+d = SoapySDR.Device(dict(driver="rfsitl", socket=sys.argv[1], node="1"))
+rx = d.setupStream(SOAPY_SDR_RX, SOAPY_SDR_CF32)
+d.activateStream(rx)
+buf = np.zeros(d.getStreamMTU(rx), np.complex64)
+def read():
+    return d.readStream(rx, [buf], len(buf), timeoutUs=100000)
+deadline = time.monotonic() + 120
+while read().ret <= 0 and time.monotonic() < deadline:
+    pass
+say(step="streaming")
+r = read()
+while r.ret >= 0 or r.ret in (SOAPY_SDR_TIMEOUT, SOAPY_SDR_OVERFLOW):
+    r = read()
+say(step="lost", ret=r.ret)
+deadline = time.monotonic() + 120
+info = d.getHardwareInfo()
+while time.monotonic() < deadline:
+    r = read()
+    info = d.getHardwareInfo()
+    if r.ret > 0 or info["link"].startswith("stopped"):
+        break
+if r.ret > 0:
+    say(step="back", read=r.ret, time_ns=r.timeNs, hw_time_ns=d.getHardwareTime(),
+        rejoins=info["rejoins"], link=info["link"], connected=d.readSensor("connected"))
+else:
+    say(step="stopped", link=info["link"], connected=d.readSensor("connected"))
+d.deactivateStream(rx)
+d.closeStream(rx)
+d = None
+say(step="closed")
+"""
+
+# Claims node 1 and holds it, so that the other claim meets it.
+CLAIM_AT_ONCE = r"""
+import sys
+import SoapySDR
+d = SoapySDR.Device(dict(driver="rfsitl", socket=sys.argv[1], node="1"))
+print("claimed", flush=True)
+sys.stdin.read()  # holds the node until the test closes stdin
+"""
 
 
 if __name__ == "__main__":

@@ -10,10 +10,10 @@
 
 #include "external_test_support.hpp"
 #include "log_capture.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
+#include "rfsitl/external/client/handshake.hpp"
+#include "rfsitl/external/client/message_channel.hpp"
 #include "rfsitl/external/external_hub.hpp"
-#include "rfsitl/external/handshake.hpp"
-#include "rfsitl/external/message_channel.hpp"
 
 namespace rfsitl::external {
 namespace {

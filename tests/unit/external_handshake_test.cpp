@@ -2,7 +2,7 @@
 /// as a double before it becomes an integer (node_id 4294967298 must not alias
 /// node 2, 1e30 must not reach a float-to-integer cast), and its strings reach
 /// the emulator's log escaped.
-#include "rfsitl/external/handshake.hpp"
+#include "rfsitl/external/client/handshake.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/socket.h>
@@ -16,9 +16,9 @@
 
 #include "external_test_support.hpp"
 #include "log_capture.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
+#include "rfsitl/external/client/message_channel.hpp"
 #include "rfsitl/external/external_hub.hpp"
-#include "rfsitl/external/message_channel.hpp"
 
 namespace rfsitl::external {
 namespace {

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "external_test_support.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
+#include "rfsitl/external/client/message_channel.hpp"
 #include "rfsitl/external/external_hub.hpp"
-#include "rfsitl/external/message_channel.hpp"
 
 namespace rfsitl::external {
 namespace {

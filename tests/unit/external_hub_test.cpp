@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "external_test_support.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "external_test_support.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 #include "rfsitl/external/external_hub.hpp"
 #include "rfsitl/external/external_transceivers.hpp"
 #include "rfsitl/external/phy_config_json.hpp"

@@ -1,4 +1,4 @@
-#include "rfsitl/external/message_channel.hpp"
+#include "rfsitl/external/client/message_channel.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/socket.h>

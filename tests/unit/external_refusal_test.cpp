@@ -16,7 +16,7 @@
 #include "external_test_support.hpp"
 #include "log_capture.hpp"
 #include "rfsitl/common/retry_backoff.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 #include "rfsitl/external/external_hub.hpp"
 #include "rfsitl/external/phy_config_json.hpp"
 #include "rfsitl/external/repeat_limiter.hpp"

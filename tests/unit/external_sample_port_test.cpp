@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -11,8 +12,9 @@
 #include <thread>
 #include <vector>
 
+#include "external_samples_hub.hpp"
 #include "external_test_support.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 #include "rfsitl/external/external_hub.hpp"
 #include "rfsitl/external/external_transceivers.hpp"
 
@@ -101,21 +103,8 @@ std::vector<cf32> pattern_block(std::uint64_t tick, std::size_t n) {
   return v;
 }
 
-struct Fixture {
-  SocketPath path;
-  std::unique_ptr<ExternalHub> hub;
-  std::shared_ptr<NodeLink> link;
-  std::unique_ptr<phy::Transceiver> port;
-
-  Fixture() {
-    HubSettings hs;
-    hs.socket_path = path.str();
-    hs.reply_timeout_ms = 3000;
-    hs.tick_samples = kB;
-    hub = make_external_hub(hs, {ExternalNodeSpec{0, kNode, Role::kSamples, ""}});
-    link = hub->link(0);
-    port = make_sample_port_transceiver(link, kB);
-  }
+struct Fixture : testing::SamplesHub {
+  Fixture() : SamplesHub(kNode, kB) {}
 
   ExternalClient::Settings client_settings() const {
     ExternalClient::Settings s;

@@ -11,7 +11,7 @@
 #include "engine_run.hpp"
 #include "external_test_support.hpp"
 #include "log_capture.hpp"
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 #include "rfsitl/external/external_runtime.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"

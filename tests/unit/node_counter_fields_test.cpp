@@ -36,6 +36,7 @@ engine::NodeCountersSnapshot distinct_values() {
   c.ip_refused = 18;
   c.queue_depth = 16;
   c.external_stalls = 17;
+  c.external_overflows = 27;
   c.mac = {19, 20, 21, 22, 23, 24, 25, 26};
   return c;
 }
@@ -60,6 +61,7 @@ const std::map<std::string, Expected>& expected_scalars() {
       {"to_agent_dropped", {"rfsitl_frames_to_agent_dropped_total", 13}},
       {"queue_depth", {"rfsitl_tx_queue_depth", 16}},
       {"external_stalls", {"rfsitl_external_stalls_total", 17}},
+      {"external_overflows", {"rfsitl_external_overflows_total", 27}},
       {"mac_retries", {"rfsitl_mac_retries_total", 19}},
       {"mac_ack_timeouts", {"rfsitl_mac_ack_timeouts_total", 20}},
       {"mac_retry_drops", {"rfsitl_mac_retry_drops_total", 21}},
@@ -149,12 +151,12 @@ TEST(NodeCounterFields, SummaryTableHasAColumnPerFieldInOrder) {
   const std::vector<std::string> want_titles = {
       "node",          "in",        "tx",         "delivered", "lost:sen", "lost:col", "lost:hd",
       "lost:dec",      "lost:dst",  "lost:retry", "q-drop",    "pending",  "received", "crc-fail",
-      "to-agent-drop", "frame-err", "ip-ref",     "q-depth",   "stalls",   "retry",    "ack-to",
-      "rl-drop",       "dup",       "ctl",        "backoff",   "busy",     "sensed"};
+      "to-agent-drop", "frame-err", "ip-ref",     "q-depth",   "stalls",   "ovfl",     "retry",
+      "ack-to",        "rl-drop",   "dup",        "ctl",       "backoff",  "busy",     "sensed"};
   EXPECT_EQ(titles, want_titles);
-  const std::vector<std::uint64_t> want_values = {7,  1000, 3,   4,  5,  6,  7,  8,  9,
-                                                  10, 2,    949, 10, 11, 13, 12, 18, 16,
-                                                  17, 19,   20,  21, 22, 23, 24, 25, 26};
+  const std::vector<std::uint64_t> want_values = {7,  1000, 3,  4,  5,  6,  7,  8,  9,  10,
+                                                  2,  949,  10, 11, 13, 12, 18, 16, 17, 27,
+                                                  19, 20,   21, 22, 23, 24, 25, 26};
   EXPECT_EQ(values, want_values);
   // Right-aligned under its title.
   EXPECT_EQ(lines[0].size(), lines[1].size());

@@ -1,10 +1,11 @@
 // The SoapySDR module's buffers between the application and the emulator's
 // ticks (stream_buffers.hpp), fed tick by tick without an emulator: RX
 // timestamps and overflow, TX timed and untimed placement, late bursts,
-// underflows, timeouts and closing.
+// underflows, timeouts, closing and reopening after a restart.
 #include <SoapySDR/Errors.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 #include <vector>
@@ -94,6 +95,43 @@ TEST(SoapyStreamBuffers, ReadTimesOutInTimeAndFailsOnceClosed) {
   EXPECT_EQ(b.write(burst, nullptr, true, 0), SOAPY_SDR_STREAM_ERROR);
   TxEvent e;
   EXPECT_EQ(b.read_event(e, 0), SOAPY_SDR_STREAM_ERROR);
+}
+
+TEST(SoapyStreamBuffers, ReopenedAfterARestartTheBuffersFollowTheNewVirtualTime) {
+  StreamBuffers b(kFs, 3 * kTick, 10 * kTick);
+  FakeEmulator old_emu(b);
+  b.set_rx_active(true);
+  for (int i = 0; i < 40; ++i) old_emu.tick();  // far ahead in virtual time, overflowing
+  const SampleTime old_time = 40 * static_cast<SampleTime>(kTick);
+  const std::vector<cf32> burst(10, cf32{1.0F, 0.0F});
+  const SampleTime later = old_time + 5 * static_cast<SampleTime>(kTick);
+  ASSERT_EQ(b.write(burst, &later, true, 0), 10);  // for the old emulator's time
+  b.close();
+  std::vector<cf32> out(kTick);
+  SampleTime t = 0;
+  EXPECT_EQ(b.read(out, t, 0), SOAPY_SDR_OVERFLOW);  // still said, before the error
+  ASSERT_EQ(b.read(out, t, 0), static_cast<int>(kTick));
+
+  b.reopen(0);  // a new emulator, from virtual time 0
+  EXPECT_TRUE(b.connected());
+  EXPECT_EQ(b.now(), 0);
+  EXPECT_EQ(b.read(out, t, 0), SOAPY_SDR_TIMEOUT) << "nothing of the old emulator is left";
+  FakeEmulator new_emu(b);
+  std::vector<cf32> sent;
+  for (int i = 0; i < 8; ++i) {
+    const std::vector<cf32> tx = new_emu.tick();
+    sent.insert(sent.end(), tx.begin(), tx.end());
+  }
+  EXPECT_TRUE(std::all_of(sent.begin(), sent.end(), [](cf32 v) { return v == cf32{}; }))
+      << "the old emulator's burst must not go out";
+  ASSERT_EQ(b.read(out, t, 0), SOAPY_SDR_OVERFLOW);  // 8 new ticks into room for 3
+  ASSERT_EQ(b.read(out, t, 0), static_cast<int>(kTick));
+  EXPECT_EQ(t, 400);  // the new emulator's times
+  EXPECT_EQ(out[0].real(), 400.0F);
+  EXPECT_EQ(b.overflows(), 2U) << "the counters span connections";
+  const SampleTime soon = new_emu.t;
+  ASSERT_EQ(b.write(burst, &soon, true, 0), 10);
+  EXPECT_EQ(new_emu.tick()[0], (cf32{1.0F, 0.0F}));
 }
 
 TEST(SoapyStreamBuffers, TimedBurstGoesOutAtItsTimeAcrossTicks) {

@@ -84,6 +84,7 @@ TEST(StatsReportPrometheus, ExportsEveryPerNodeNumberOfTheSummaryJson) {
       {"to_agent_dropped", "rfsitl_frames_to_agent_dropped_total"},
       {"queue_depth", "rfsitl_tx_queue_depth"},
       {"external_stalls", "rfsitl_external_stalls_total"},
+      {"external_overflows", "rfsitl_external_overflows_total"},
       {"mac_retries", "rfsitl_mac_retries_total"},
       {"mac_ack_timeouts", "rfsitl_mac_ack_timeouts_total"},
       {"mac_retry_drops", "rfsitl_mac_retry_drops_total"},

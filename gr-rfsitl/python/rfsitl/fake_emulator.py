@@ -1,7 +1,7 @@
 """A minimal stand-in for the rfsitl emulator's external-node socket.
 
 It speaks the "samples" role of the wire protocol
-(include/rfsitl/external/wire_protocol.hpp) in plain Python, so tests and
+(include/rfsitl/external/client/wire_protocol.hpp) in plain Python, so tests and
 flowgraph authors can drive emulator_source / emulator_sink tick by tick
 without the emulator. It is a protocol double, not a channel model: the
 caller decides what each node receives.

@@ -115,6 +115,12 @@ inline constexpr std::array kNodeCounterFields{
                      "Replies the node's external process owed but did not send within "
                      "external.reply_timeout_s; the whole engine waited that long each time.",
                      "ext. stalls", "stalls", read_member<&NodeCountersSnapshot::external_stalls>},
+    NodeCounterField{"external_overflows", "rfsitl_external_overflows_total", CounterKind::kCounter,
+                     "Overflows the node's external process reported: times its RX buffer "
+                     "dropped samples because the application read too slowly (a SoapySDR "
+                     "application's SOAPY_SDR_OVERFLOW).",
+                     "ext. overflows", "ovfl",
+                     read_member<&NodeCountersSnapshot::external_overflows>, nullptr, true},
     // The MAC's (zero with mac none).
     NodeCounterField{"mac_retries", "rfsitl_mac_retries_total", CounterKind::kCounter,
                      "Transmissions that repeated a unicast frame after its ACK timed out.",

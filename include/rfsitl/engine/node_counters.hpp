@@ -34,13 +34,14 @@ struct NodeCountersSnapshot {
   std::uint64_t delivered = 0;      ///< own frames that reached their destination(s)
   std::array<std::uint64_t, kNumLossReasons> lost{};  ///< own frames lost, by reason
   std::uint64_t received = 0;  ///< frames this node's receiver decoded and handed to its agent
-  std::uint64_t rx_crc_failures = 0;   ///< decodes at this receiver that failed the CRC
-  std::uint64_t framing_errors = 0;    ///< net-port bytes rejected (oversized, too short)
-  std::uint64_t ip_refused = 0;        ///< TAP frames refused (not IP/ARP, unknown MAC, > MTU)
-  std::uint64_t to_agent_dropped = 0;  ///< decoded for this node but no agent connected / backlog
-  std::uint64_t external_stalls = 0;   ///< round trips with the node's process that timed out
-  std::uint64_t queue_depth = 0;       ///< TX queue length (the engine's; snapshot() leaves 0)
-  mac::MacCountersSnapshot mac;        ///< the node's MAC (zero for mac none)
+  std::uint64_t rx_crc_failures = 0;     ///< decodes at this receiver that failed the CRC
+  std::uint64_t framing_errors = 0;      ///< net-port bytes rejected (oversized, too short)
+  std::uint64_t ip_refused = 0;          ///< TAP frames refused (not IP/ARP, unknown MAC, > MTU)
+  std::uint64_t to_agent_dropped = 0;    ///< decoded for this node but no agent connected / backlog
+  std::uint64_t external_stalls = 0;     ///< round trips with the node's process that timed out
+  std::uint64_t external_overflows = 0;  ///< its process's RX buffer overflowed (read too slowly)
+  std::uint64_t queue_depth = 0;         ///< TX queue length (the engine's; snapshot() leaves 0)
+  mac::MacCountersSnapshot mac;          ///< the node's MAC (zero for mac none)
 
   std::uint64_t lost_total() const {
     std::uint64_t s = 0;
@@ -64,6 +65,7 @@ struct NodeCounters {
   std::atomic<std::uint64_t> ip_refused{0};
   std::atomic<std::uint64_t> to_agent_dropped{0};
   std::atomic<std::uint64_t> external_stalls{0};
+  std::atomic<std::uint64_t> external_overflows{0};
   mac::MacCounters mac;
 
   static void bump(std::atomic<std::uint64_t>& c) { c.fetch_add(1, std::memory_order_relaxed); }

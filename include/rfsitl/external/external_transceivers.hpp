@@ -1,6 +1,8 @@
 #pragma once
 /// Transceivers whose work happens in another process, as the engine sees
 /// them: proxies that implement phy::Transceiver over a NodeLink.
+#include <atomic>
+#include <cstdint>
 #include <memory>
 
 #include "rfsitl/external/node_link.hpp"
@@ -23,7 +25,11 @@ std::unique_ptr<phy::Transceiver> make_remote_transceiver(std::shared_ptr<NodeLi
 /// flowgraph) and exchanges B samples per tick. Its receiver always runs (the
 /// emulator cannot see inside it), blanked samples during its own
 /// transmission are zeros, and its decodes never pass through the emulator.
-std::unique_ptr<phy::Transceiver> make_sample_port_transceiver(std::shared_ptr<NodeLink> link,
-                                                               std::uint32_t tick_samples);
+/// The overflows its process reports with each kTx (tx_report.hpp) are added
+/// to `overflows` (the node's NodeCounters::external_overflows), which must
+/// outlive the transceiver; an extra that is no report drops the process.
+std::unique_ptr<phy::Transceiver> make_sample_port_transceiver(
+    std::shared_ptr<NodeLink> link, std::uint32_t tick_samples,
+    std::atomic<std::uint64_t>& overflows);
 
 }  // namespace rfsitl::external

@@ -15,7 +15,7 @@
 #include <span>
 #include <string>
 
-#include "rfsitl/external/message_channel.hpp"
+#include "rfsitl/external/client/message_channel.hpp"
 
 namespace rfsitl::external {
 

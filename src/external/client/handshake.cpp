@@ -1,11 +1,12 @@
-#include "rfsitl/external/handshake.hpp"
+#include "rfsitl/external/client/handshake.hpp"
 
 #include <cmath>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
-#include "rfsitl/external/wire_protocol.hpp"
+#include "rfsitl/external/client/tx_report.hpp"
+#include "rfsitl/external/client/wire_protocol.hpp"
 
 namespace rfsitl::external {
 namespace {
@@ -93,6 +94,14 @@ bool virtual_time_of(const Json& j) {
   return mode == "virtual";
 }
 
+bool boolean_of(const Json& j, std::string_view key) {
+  const Json& v = field(j, key);
+  if (!v.is_boolean()) {
+    throw HandshakeError(std::string(key) + ": expected true or false, got " + shown(v));
+  }
+  return v.get<bool>();
+}
+
 const char* time_mode_name(bool virtual_time) {
   return virtual_time ? "virtual" : "realtime";
 }
@@ -109,8 +118,9 @@ void check_version(const Json& j, std::string_view key, int version) {
 }  // namespace
 
 std::string hello_json(const Hello& hello) {
-  return Json{{"node_id", hello.node_id}, {"role", hello.role}, {"program", hello.program}}.dump(
-      -1, ' ', false, Json::error_handler_t::replace);
+  Json j = {{"node_id", hello.node_id}, {"role", hello.role}, {"program", hello.program}};
+  if (hello.exclusive) j["exclusive"] = true;
+  return j.dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
 Hello read_hello(const std::string& text) {
@@ -119,6 +129,7 @@ Hello read_hello(const std::string& text) {
   h.node_id = node_id_of(j);
   h.role = text_of(j, "role");
   if (j.contains("program")) h.program = text_of(j, "program");
+  if (j.contains("exclusive")) h.exclusive = boolean_of(j, "exclusive");
   return h;
 }
 
@@ -129,6 +140,7 @@ std::string welcome_json(const Welcome& welcome) {
             {"tick_samples", welcome.tick_samples},
             {"time_mode", time_mode_name(welcome.virtual_time)}};
   if (!welcome.phy_json.empty()) j["phy"] = Json::parse(welcome.phy_json);
+  if (welcome.tx_report != 0) j["tx_report"] = welcome.tx_report;
   return j.dump();
 }
 
@@ -143,6 +155,9 @@ Welcome read_welcome(const std::string& text) {
   if (const auto it = j.find("phy"); it != j.end()) {
     if (!it->is_object()) throw HandshakeError("phy: expected a JSON object, got " + shown(*it));
     w.phy_json = it->dump();
+  }
+  if (j.contains("tx_report")) {
+    w.tx_report = static_cast<std::uint32_t>(integer_in(j, "tx_report", 0, kMaxTxReportVersion));
   }
   return w;
 }
@@ -192,11 +207,7 @@ std::vector<DiscoveredNode> read_discovery(const std::string& text) {
     n.tick_samples = tick_samples_of(e);
     n.carrier_hz = positive_finite(e, "carrier_hz");
     n.virtual_time = virtual_time_of(e);
-    const Json& claimed = field(e, "claimed");
-    if (!claimed.is_boolean()) {
-      throw HandshakeError("claimed: expected true or false, got " + shown(claimed));
-    }
-    n.claimed = claimed.get<bool>();
+    n.claimed = boolean_of(e, "claimed");
     nodes.push_back(std::move(n));
   }
   return nodes;

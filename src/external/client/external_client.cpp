@@ -1,4 +1,4 @@
-#include "rfsitl/external/external_client.hpp"
+#include "rfsitl/external/client/external_client.hpp"
 
 #include <stdexcept>
 
@@ -40,7 +40,8 @@ const Welcome& ExternalClient::connect() {
   channel_ = MessageChannel::connect_to(settings_.socket_path);
   // have_tick_ survives a reconnection: the first tick after rejoining is
   // compared with the last one before the drop.
-  const std::string text = hello_json({settings_.node_id, settings_.role, settings_.program});
+  const std::string text =
+      hello_json({settings_.node_id, settings_.role, settings_.program, settings_.exclusive});
   MsgHeader h;
   h.type = static_cast<std::uint16_t>(MsgType::kHello);
   if (!channel_.send(h, {}, {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()})) {
@@ -94,6 +95,16 @@ RecvStatus ExternalClient::wait_tick(int timeout_ms) {
 }
 
 bool ExternalClient::send_tx(std::span<const cf32> tx) {
+  return send_tx_with(tx, {});
+}
+
+bool ExternalClient::send_tx(std::span<const cf32> tx, const TxReport& report) {
+  if (welcome_.tx_report < 1) return send_tx_with(tx, {});
+  const auto bytes = tx_report_bytes(report);
+  return send_tx_with(tx, bytes);
+}
+
+bool ExternalClient::send_tx_with(std::span<const cf32> tx, std::span<const std::uint8_t> extra) {
   if (tx.size() > welcome_.tick_samples) {
     throw std::invalid_argument("send_tx: " + std::to_string(tx.size()) +
                                 " samples exceed the tick of " +
@@ -103,7 +114,7 @@ bool ExternalClient::send_tx(std::span<const cf32> tx) {
   h.type = static_cast<std::uint16_t>(MsgType::kTx);
   h.tick = tick_.index;
   h.time = tick_.time;
-  return channel_.send(h, tx);
+  return channel_.send(h, tx, extra);
 }
 
 }  // namespace rfsitl::external

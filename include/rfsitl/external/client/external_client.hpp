@@ -10,8 +10,9 @@
 #include <vector>
 
 #include "rfsitl/common/types.hpp"
-#include "rfsitl/external/handshake.hpp"
-#include "rfsitl/external/message_channel.hpp"
+#include "rfsitl/external/client/handshake.hpp"
+#include "rfsitl/external/client/message_channel.hpp"
+#include "rfsitl/external/client/tx_report.hpp"
 
 namespace rfsitl::external {
 
@@ -51,6 +52,9 @@ class ExternalClient {
     std::string role = "samples";  ///< "samples" or "transceiver"
     std::string program = "external";
     int handshake_timeout_ms = 5000;
+    /// Hello::exclusive: refused while another process holds the node,
+    /// instead of taking it over.
+    bool exclusive = false;
   };
 
   explicit ExternalClient(Settings settings) : settings_(std::move(settings)) {}
@@ -73,6 +77,9 @@ class ExternalClient {
   /// Samples role: answers the current tick with `tx` (at most B samples; the
   /// emulator zero-pads fewer). Throws std::invalid_argument if tx.size() > B.
   bool send_tx(std::span<const cf32> tx);
+  /// The same, with `report` after the samples when the emulator's welcome
+  /// asks for one (Welcome::tx_report >= 1); without, when it does not.
+  bool send_tx(std::span<const cf32> tx, const TxReport& report);
 
   /// Ticks that did not follow the previous one seen, across reconnections:
   /// the emulator dropped this node in between (or a protocol slip).
@@ -83,6 +90,8 @@ class ExternalClient {
   Message& message() { return message_; }
 
  private:
+  bool send_tx_with(std::span<const cf32> tx, std::span<const std::uint8_t> extra);
+
   Settings settings_;
   MessageChannel channel_;
   Message message_;

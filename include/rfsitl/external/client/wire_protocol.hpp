@@ -9,11 +9,17 @@
 /// Both ends are on one machine, so fields are in host byte order.
 ///
 /// Handshake: the external side sends kHello (extra = JSON
-/// {"node_id": n, "role": "samples"|"transceiver", "program": "..."}); the
-/// emulator answers kWelcome (extra = JSON {"protocol": 1, "node_id": n,
-/// "sample_rate_hz": fs, "tick_samples": B, "time_mode": "realtime"|"virtual",
-/// "phy": {...} for the transceiver role}) or kReject (extra = reason, UTF-8)
-/// and closes. The hello is due within 2 s of connecting (each connection has
+/// {"node_id": n, "role": "samples"|"transceiver", "program": "...",
+/// optionally "exclusive": true}); the emulator answers kWelcome (extra = JSON
+/// {"protocol": 1, "node_id": n, "sample_rate_hz": fs, "tick_samples": B,
+/// "time_mode": "realtime"|"virtual", "phy": {...} for the transceiver role,
+/// "tx_report": 1 for the samples role}) or kReject (extra = reason, UTF-8)
+/// and closes. A hello for a node another process holds takes the node over
+/// (that process is dropped: how a restarted one rejoins), unless it is
+/// exclusive: then it is refused. The hub admits one hello at a time, so of
+/// two exclusive hellos at the same instant one is refused. Fields added
+/// after protocol 1 are optional both ways: older readers ignore them.
+/// The hello is due within 2 s of connecting (each connection has
 /// its own deadline); both JSON texts are read by handshake.hpp, which refuses
 /// any number outside its field's range rather than converting it.
 ///
@@ -21,7 +27,9 @@
 /// tick k the emulator sends kTick {tick = k, time = first sample of tick k,
 /// count = samples received during tick k-1 (B, or 0 for the first tick after
 /// joining)} and waits for kTx {tick = k, count <= B samples to transmit from
-/// `time` on}; fewer than B are zero-padded. One round trip per tick.
+/// `time` on, extra = a TxReport (tx_report.hpp) if the welcome names
+/// tx_report >= 1, else nothing}; fewer than B are zero-padded. One round trip
+/// per tick.
 ///
 /// Role "transceiver" (`rfsitl node`: the emulator keeps the net port and the
 /// accounting, the process runs the PHY): two round trips per tick, mirroring

@@ -27,6 +27,11 @@ struct Hello {
   NodeId node_id = 0;
   std::string role;                  ///< "samples" or "transceiver" (the hub checks it)
   std::string program = "external";  ///< for the emulator's log: client text, escape to print
+  /// Claim the node only if no other process holds it: the emulator refuses
+  /// the hello instead of dropping that process (the default, false, takes
+  /// the node over, which is how a restarted process rejoins). Sent only when
+  /// true, so older emulators, which ignore it, see the hello they knew.
+  bool exclusive = false;
 };
 
 /// What the emulator tells a joining node.
@@ -36,12 +41,16 @@ struct Welcome {
   std::uint32_t tick_samples = 0;  ///< B
   bool virtual_time = false;
   std::string phy_json;  ///< transceiver role: the node's PHY settings as JSON; else empty
+  /// Samples role: the TxReport version (tx_report.hpp) the emulator reads
+  /// after a kTx's samples; 0 (an older emulator, or the field absent): send
+  /// none.
+  std::uint32_t tx_report = 0;
 };
 
 std::string hello_json(const Hello& hello);
 
 /// Reads a hello: node_id an integer in 1..254, role a string, program a string
-/// if present. Throws HandshakeError.
+/// and exclusive a boolean if present. Throws HandshakeError.
 Hello read_hello(const std::string& text);
 
 /// The welcome with protocol kProtocolVersion; `phy_json` (if not empty) must
@@ -50,8 +59,8 @@ std::string welcome_json(const Welcome& welcome);
 
 /// Reads a welcome: protocol kProtocolVersion, node_id in 1..254,
 /// sample_rate_hz finite and > 0, tick_samples in 1..kMaxExternalTickSamples,
-/// time_mode "realtime" or "virtual", phy an object if present. Throws
-/// HandshakeError.
+/// time_mode "realtime" or "virtual", phy an object and tx_report an integer
+/// in 0..kMaxTxReportVersion if present. Throws HandshakeError.
 Welcome read_welcome(const std::string& text);
 
 /// What a process asks when it only wants to know which nodes are there

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "rfsitl/common/types.hpp"
-#include "rfsitl/external/wire_protocol.hpp"
+#include "rfsitl/external/client/wire_protocol.hpp"
 
 namespace rfsitl::external {
 
