@@ -51,7 +51,10 @@ void NodeCounters::assign(const NodeCountersSnapshot& s) {
   wr(ip_refused, s.ip_refused);
   wr(to_agent_dropped, s.to_agent_dropped);
   wr(external_stalls, s.external_stalls);
+  wr(external_overflows, s.external_overflows);
   mac.assign(s.mac);
+  // A new counter needs its line here (and in snapshot()): this fails until then.
+  static_assert(sizeof(NodeCountersSnapshot) == 26 * sizeof(std::uint64_t));
 }
 
 FrameLedger::FrameLedger(LedgerConfig config, std::span<NodeCounters> counters,
