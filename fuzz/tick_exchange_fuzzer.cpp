@@ -47,8 +47,10 @@ void tx(std::span<const std::uint8_t> bytes) {
     const std::size_t n = v.reports[k].tx_samples;
     FUZZ_CHECK(v.sample_offsets[k] + n * sizeof(rfsitl::cf32) <= bytes.size(), "samples past end");
     samples.emplace_back(n);
-    std::memcpy(samples.back().data(), bytes.data() + v.sample_offsets[k],
-                n * sizeof(rfsitl::cf32));
+    if (n > 0) {
+      std::memcpy(samples.back().data(), bytes.data() + v.sample_offsets[k],
+                  n * sizeof(rfsitl::cf32));
+    }
   }
   for (const auto& s : samples) m.samples.emplace_back(s);
   std::vector<std::uint8_t> again;

@@ -410,10 +410,14 @@ class SigtermFloodTest(unittest.TestCase):
             for t in threads:
                 t.start()
             try:
-                # A flood: every node delivers and drops frames at its full queue.
-                emu.wait_until(lambda st: all(n["delivered"] >= 5 and n["queue_dropped"] >= 100
-                                              for n in st["nodes"]), timeout=60,
-                               what="every node flooded")
+                # A flood: every node drops frames at its full queue, and frames
+                # get through. Few do: every node is on the air nearly all the
+                # time, so a receiver is free for a whole frame only by chance
+                # (one CI run saw 4 to 9 per node in 60 s), hence the total.
+                emu.wait_until(lambda st: all(n["delivered"] >= 1 and n["queue_dropped"] >= 100
+                                              for n in st["nodes"])
+                               and sum(n["delivered"] for n in st["nodes"]) >= 12,
+                               timeout=60, what="every node flooded")
                 started = time.monotonic()
                 rc = end_with_signal(emu, signal.SIGTERM)
                 took = time.monotonic() - started
