@@ -832,8 +832,10 @@ class LockStepEngine final : public Engine {
   /// rank's nodes did (verdicts, frames started, samples) and the positions
   /// it was told, and takes theirs into the nodes they own.
   void exchange_transmissions() {
-    TxMessage mine;
+    TxMessage& mine = tx_out_;  // reused: its vectors keep their capacity
     mine.stop = local_stop_;
+    mine.reports.clear();
+    mine.samples.clear();
     mine.updates = inbox_.take();
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       const Node& node = nodes_[i];
@@ -1050,6 +1052,7 @@ class LockStepEngine final : public Engine {
   bool local_stop_ = false;                // this rank was told to stop
   bool stop_agreed_ = false;               // some rank was: every rank stops after this tick
   std::vector<StateUpdate> peer_updates_;  // applied at the next tick's start
+  TxMessage tx_out_;                       // this rank's message A, built every tick
   std::uint64_t merge_every_ = 0;          // ticks between counter merges
   std::uint64_t ticks_since_merge_ = 0;
   std::vector<RankStatus> ranks_snapshot_;  // under snapshot_mutex_

@@ -16,9 +16,9 @@ void RankLink::gather(const std::vector<std::uint8_t>& mine) {
 const std::vector<TxMessageView>& RankLink::exchange_tx(const TxMessage& mine) {
   write_tx_message(mine, out_);
   gather(out_);
-  views_.clear();
+  views_.resize(in_.ranks());
   for (std::size_t r = 0; r < in_.ranks(); ++r) {
-    views_.push_back(read_tx_message(in_.of(r), r, nodes_, tick_samples_));
+    read_tx_message(in_.of(r), r, nodes_, tick_samples_, views_[r]);
   }
   return views_;
 }
@@ -33,19 +33,18 @@ void RankLink::exchange_ops(std::vector<LedgerOp>& ops) {
   write_ledger_ops(ops, out_);
   gather(out_);
   // This rank's own ops keep their deliveries; the others' are read back.
-  std::vector<LedgerOp> all;
-  all.reserve(ops.size());
+  merged_.clear();
   for (std::size_t r = 0; r < in_.ranks(); ++r) {
     if (r == rank()) {
-      all.insert(all.end(), ops.begin(), ops.end());
+      merged_.insert(merged_.end(), ops.begin(), ops.end());
     } else {
-      read_ledger_ops(in_.of(r), r, nodes_, all);
+      read_ledger_ops(in_.of(r), r, nodes_, merged_);
     }
   }
   // Every node belongs to one rank, so sorting by node keeps each node's ops in order.
-  std::stable_sort(all.begin(), all.end(),
+  std::stable_sort(merged_.begin(), merged_.end(),
                    [](const LedgerOp& a, const LedgerOp& b) { return a.node < b.node; });
-  ops = std::move(all);
+  ops.swap(merged_);  // both keep their capacity for the next tick
 }
 
 void RankLink::exchange_counters(

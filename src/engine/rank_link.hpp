@@ -48,7 +48,8 @@ class RankLink {
   std::size_t tick_samples_;
   std::vector<std::uint8_t> out_;
   cluster::Gathered in_;
-  std::vector<TxMessageView> views_;
+  std::vector<TxMessageView> views_;  // by rank, reused every tick
+  std::vector<LedgerOp> merged_;      // exchange_ops' result, reused every tick
   std::uint64_t bytes_sent_ = 0;
   double wall_s_ = 0.0;
 };

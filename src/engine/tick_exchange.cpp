@@ -158,11 +158,17 @@ void write_tx_message(const TxMessage& m, std::vector<std::uint8_t>& out) {
 
 TxMessageView read_tx_message(std::span<const std::uint8_t> bytes, std::size_t rank,
                               std::size_t nodes, std::size_t tick_samples) {
-  Reader r(bytes, rank, "TX message");
   TxMessageView v;
+  read_tx_message(bytes, rank, nodes, tick_samples, v);
+  return v;
+}
+
+void read_tx_message(std::span<const std::uint8_t> bytes, std::size_t rank, std::size_t nodes,
+                     std::size_t tick_samples, TxMessageView& v) {
+  Reader r(bytes, rank, "TX message");
   v.stop = r.flag();
   const std::uint32_t reports = r.count(kMinReport);
-  v.reports.resize(reports);
+  v.reports.assign(reports, TxReport{});
   v.sample_offsets.resize(reports);
   for (std::uint32_t k = 0; k < reports; ++k) {
     TxReport& t = v.reports[k];
@@ -186,10 +192,9 @@ TxMessageView read_tx_message(std::span<const std::uint8_t> bytes, std::size_t r
     v.sample_offsets[k] = r.skip(t.tx_samples * sizeof(cf32));
   }
   const std::uint32_t updates = r.count(kMinUpdate);
-  v.updates.reserve(updates);
+  v.updates.clear();
   for (std::uint32_t k = 0; k < updates; ++k) v.updates.push_back(read_update(r, nodes));
   r.done();
-  return v;
 }
 
 void write_ledger_ops(std::span<const LedgerOp> ops, std::vector<std::uint8_t>& out) {

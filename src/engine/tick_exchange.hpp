@@ -79,6 +79,9 @@ struct TxMessageView {
 };
 TxMessageView read_tx_message(std::span<const std::uint8_t> bytes, std::size_t rank,
                               std::size_t nodes, std::size_t tick_samples);
+/// The same into `out`, whose vectors keep their capacity (once per rank and tick).
+void read_tx_message(std::span<const std::uint8_t> bytes, std::size_t rank, std::size_t nodes,
+                     std::size_t tick_samples, TxMessageView& out);
 
 void write_ledger_ops(std::span<const LedgerOp> ops, std::vector<std::uint8_t>& out);
 /// Appends rank `rank`'s ops to `out` (delivery = kNoDelivery). Throws like

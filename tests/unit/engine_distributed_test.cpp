@@ -172,7 +172,6 @@ TEST(EngineDistributed, AMoveReportedToOneRankMovesTheNodeOnEveryRank) {
   const auto ranks = run_ranks(s, 2, [&](std::size_t r, engine::Engine& e) {
     if (r == 0) e.set_position(5, near);
   });
-  (void)ranks;
   // The frames to node 6 (from node 5) arrive only if every rank moved it:
   // its receiver runs on its owner, the sender's rank decides nothing.
   const RunResult moved =
