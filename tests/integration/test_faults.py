@@ -376,16 +376,21 @@ class KilledProcessTest(unittest.TestCase):
 
 class SigtermFloodTest(unittest.TestCase):
     def test_sigterm_mid_flood_exits_cleanly_with_a_balanced_summary(self):
-        # Four agents send as fast as their sockets take frames (each to the
-        # next node) and read whatever arrives, until the emulator is gone.
-        nodes = {1: (0, 0, 10), 2: (8, 0, 10), 3: (0, 8, 10), 4: (8, 8, 10)}
+        # Two pairs 200 m apart (the paper's d^-6 puts the other pair 80 dB
+        # below the partner): nodes 1 and 3 send as fast as their sockets take
+        # frames, to 2 and 4, which only read. A receiver that never transmits
+        # decodes its partner's frames whatever the timing, so deliveries come
+        # at the air's pace while the queues overflow. (Four nodes all flooding
+        # each other deliver only by chance: half duplex; CI saw 0 on a node.)
+        nodes = {1: (0, 0, 10), 2: (8, 0, 10), 3: (200, 0, 10), 4: (208, 0, 10)}
+        flooders = {1: 2, 3: 4}
         with traced(Emulator(nodes, extra_yaml="phy:\n  tx_queue_frames: 16\n")) as emu:
             agents = {nid: emu.agent(nid) for nid in nodes}
             offered = {nid: 0 for nid in nodes}  # frames written, at least partly
             stop = threading.Event()
 
             def flood(nid):
-                dst = nid % 4 + 1
+                dst = flooders[nid]
                 batch = b"".join(bytes([nid, dst]) + b"flood %5d " % i + bytes(100) + b"\r\r\n\n"
                                  for i in range(50))
                 sock = agents[nid].sock
@@ -405,19 +410,17 @@ class SigtermFloodTest(unittest.TestCase):
                 except OSError:
                     pass
 
-            threads = [threading.Thread(target=f, args=(nid,), daemon=True)
-                       for nid in nodes for f in (flood, drain)]
+            threads = [threading.Thread(target=flood, args=(nid,), daemon=True)
+                       for nid in flooders]
+            threads += [threading.Thread(target=drain, args=(nid,), daemon=True) for nid in nodes]
             for t in threads:
                 t.start()
             try:
-                # A flood: every node drops frames at its full queue, and frames
-                # get through. Few do: every node is on the air nearly all the
-                # time, so a receiver is free for a whole frame only by chance
-                # (one CI run saw 4 to 9 per node in 60 s), hence the total.
-                emu.wait_until(lambda st: all(n["delivered"] >= 1 and n["queue_dropped"] >= 100
-                                              for n in st["nodes"])
-                               and sum(n["delivered"] for n in st["nodes"]) >= 12,
-                               timeout=60, what="every node flooded")
+                # A flood: both senders drop frames at their full queues, and
+                # their frames get through.
+                emu.wait_until(lambda st: all(n["delivered"] >= 20 and n["queue_dropped"] >= 100
+                                              for n in st["nodes"] if n["id"] in flooders),
+                               timeout=60, what="both senders flooded")
                 started = time.monotonic()
                 rc = end_with_signal(emu, signal.SIGTERM)
                 took = time.monotonic() - started
@@ -442,7 +445,9 @@ class SigtermFloodTest(unittest.TestCase):
             self.assertEqual(n["handed_in"], outcomes + n["pending"], n)
             self.assertLessEqual(n["pending"] - n["queue_depth"], 3, n)  # on the air, at most
             self.assertLessEqual(n["handed_in"], offered[n["id"]], n)
-            self.assertGreater(n["queue_dropped"], 0, n)
+            if n["id"] in flooders:
+                self.assertGreater(n["queue_dropped"], 0, n)
+                self.assertGreaterEqual(n["delivered"], 20, n)
         print("flood: handed in", [n["handed_in"] for n in summary["nodes"]], "pending",
               [n["pending"] for n in summary["nodes"]], f"exit after {took:.2f} s")
 
