@@ -7,7 +7,7 @@
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity capacity_fading ofdm_native virtual mobility mix stage_cost
+# Stages (STAGES="fig4 fig5 capacity capacity_fading ofdm_native ofdm_ip virtual mobility mix stage_cost
 # dashboard overload fading_per mac" by default, and ip; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
@@ -18,6 +18,10 @@
 #             tap of every link (a scenario with `nodes: N`), N = CAPF_NODES
 #   ofdm_native  the same load on 802.11a/g OFDM at its native 20 Msps, 24 Mbit/s frames,
 #             ticks of OFDM_TICK_US, N = OFDM_NODES: real time, lag, delivery, CPU per node
+#   ofdm_ip   the ofdm_native scenario with IP on every node (N = OFDM_IP_NODES) and, beside
+#             the pings, iperf3 UDP at OFDM_IP_KBPS from node 1 to node 2 (1500-byte IP
+#             packets) for the whole load, MAC OFDM_IP_MAC; adds iperf3's goodput, loss and
+#             jitter (root, iperf3; skipped with a message otherwise)
 #   virtual   simulated seconds per wall second, VIRT_NODES nodes, 1 frame/node/s
 #   mobility  share of the wall time spent moving MOB_NODES random-waypoint nodes in
 #             virtual time, every node pinging a random node once a second (frame and
@@ -44,6 +48,7 @@
 # Environment (defaults for the full run; QUICK=1 picks shorter ones):
 #   OUT=out/bench  COUNT=100  FIG5_NODES="2 3 ... 15 32 64"  CAP_NODES="8 16 24 32 48 64 96 128 160"
 #   CAPF_NODES="32 48 64"  OFDM_NODES="2 4 8 12"  OFDM_TICK_US=100  OFDM_TICK_SAMPLES=
+#   OFDM_IP_NODES=8  OFDM_IP_KBPS=5000  OFDM_IP_MAC=none
 #   BIN=build/release/apps/rfsitl
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
 #   MIX_SECONDS=0.2  OVL_SECONDS=60  FADING_FRAMES=20000  PORT_BASE=20000
@@ -71,6 +76,9 @@ FIG5_NODES="${FIG5_NODES:-$D_FIG5}"
 CAP_NODES="${CAP_NODES:-$D_CAP}"
 CAPF_NODES="${CAPF_NODES:-$D_CAPF}"
 OFDM_NODES="${OFDM_NODES:-$D_OFDM}"
+OFDM_IP_NODES="${OFDM_IP_NODES:-8}"
+OFDM_IP_KBPS="${OFDM_IP_KBPS:-5000}"
+OFDM_IP_MAC="${OFDM_IP_MAC:-none}"
 # 100 us = 2000 samples at 20 Msps: 10,000 ticks a second, not 80,000 of 250 samples.
 # OFDM_TICK_SAMPLES, if set, gives the tick in samples instead (e.g. 250, as before ticks
 # by duration, also for an older build's BIN that lacks tick_us).
@@ -87,7 +95,7 @@ PORT_BASE="${PORT_BASE:-20000}"
 # must hold 10 ports per node: 200 is enough for 16 nodes).
 PORT_STRIDE="${PORT_STRIDE:-1000}"
 PORT_SLOTS="${PORT_SLOTS:-40}"
-STAGES="${STAGES-fig4 fig5 capacity capacity_fading ofdm_native virtual mobility mix stage_cost dashboard overload fading_per mac}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity capacity_fading ofdm_native ofdm_ip virtual mobility mix stage_cost dashboard overload fading_per mac}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 OVL_SECONDS="${OVL_SECONDS:-$D_OVL_S}"
@@ -262,11 +270,14 @@ cpu_seconds() {
   awk -v tck="$(getconf CLK_TCK)" '{ print ($14 + $15) / tck }' "/proc/$1/stat"
 }
 
-# capacity_run NAME NODES [SCENARIO_OF_N]: the capacity loop, one row per N into
-# $OUT/NAME.csv, logs in $OUT/NAME/. SCENARIO_OF_N, if given, is a function that
+# capacity_run NAME NODES [SCENARIO_OF_N [SIDE_LOAD]]: the capacity loop, one row per N
+# into $OUT/NAME.csv, logs in $OUT/NAME/. SCENARIO_OF_N, if given, is a function that
 # writes the scenario file for N nodes and prints its path; otherwise --nodes N.
+# SIDE_LOAD, if given, is a function called as `SIDE_LOAD start N` once the emulator is
+# ready (before the load) and `SIDE_LOAD finish N` after it; it prints extra
+# arguments for bench_collect.py's capacity-row.
 capacity_run() {
-  local name="$1" nodes="$2" scenario_of="${3:-}"
+  local name="$1" nodes="$2" scenario_of="${3:-}" side="${4:-}"
   mkdir -p "$OUT/$name"
   rm -f "$OUT/$name.csv"
   for n in $nodes; do
@@ -279,21 +290,23 @@ capacity_run() {
     else
       set -- --nodes "$n"
     fi
-    cpu=() cpu0="" wall0=""
+    cpu=() cpu0="" wall0="" side_args=()
     if start_emulator "$log" "$json" "$@"; then
+      [ -z "$side" ] || "$side" start "$n"
       from=$(wc -l <"$log")
       cpu0=$(cpu_seconds "$EMU_PID") wall0=$(date +%s.%N)
       "$BENCH"/rfsitl_swarm_load --nodes "$n" --net-base "$NET_BASE" --duration "$CAP_SECONDS" \
         --seed "$n" --json "$load" --csv "$OUT/$name/pings_$n.csv" ||
         echo "bench: load at N=$n failed"
       to=$(wc -l <"$log")
+      [ -z "$side" ] || read -r -a side_args <<<"$("$side" finish "$n")"
       cpu=(--cpu-s "$(awk -v a="$(cpu_seconds "$EMU_PID")" -v b="$cpu0" 'BEGIN { print a - b }')"
         --cpu-wall-s "$(awk -v a="$(date +%s.%N)" -v b="$wall0" 'BEGIN { print a - b }')")
     fi
     stop_emulator
     "$PY" scripts/bench_collect.py capacity-row --n "$n" --load-json "$load" --emu-log "$log" \
       --from-line "$((from + 1))" --to-line "$to" --load-seconds "$CAP_SECONDS" \
-      --summary-json "$json" "${cpu[@]}" \
+      --summary-json "$json" "${cpu[@]}" "${side_args[@]}" \
       --floor-ms "$FLOOR_MS" --out "$OUT/$name.csv" --lag-csv "$OUT/$name/lag_$n.csv"
   done
 }
@@ -325,16 +338,49 @@ YAML
 
 # The ofdm_native scenario for N nodes: the default formation and the paper's
 # path loss, 802.11a/g at 24 Mbit/s and its own 20 Msps, ticks by duration.
+# OFDM_STAGE (default ofdm_native) names the folder; OFDM_EXTRA is appended.
 ofdm_scenario_of() {
-  local file="$OUT/ofdm_native/scenario_$1.yaml" tick="tick_us: $OFDM_TICK_US"
+  local stage="${OFDM_STAGE:-ofdm_native}"
+  local file="$OUT/$stage/scenario_$1.yaml" tick="tick_us: $OFDM_TICK_US"
   [ -z "$OFDM_TICK_SAMPLES" ] || tick="tick_samples: $OFDM_TICK_SAMPLES"
   cat >"$file" <<YAML
-name: ofdm-native-$1
+name: $stage-$1
 time: {sample_rate_hz: 20e6, $tick}
 phy: {type: ofdm, rate_mbps: 24}
 nodes: $1
+${OFDM_EXTRA:-}
 YAML
   echo "$file"
+}
+
+# iperf_side start|finish N: iperf3 UDP at OFDM_IP_KBPS from node 1's namespace to node
+# 2's for CAP_SECONDS. start waits (up to 30 s) until node 1 reaches node 2 across the
+# radio and for the server's listening socket; finish waits for the client and prints
+# bench_collect's --iperf-json argument.
+IPERF_SERVER="" IPERF_CLIENT=""
+iperf_side() {
+  local ns="rfsitl-$NET_BASE" json="$OUT/ofdm_ip/iperf_$2.json"
+  if [ "$1" = start ]; then
+    rm -f "$json"
+    for _ in $(seq 30); do
+      ip netns exec "$ns-1" ping -c 1 -W 1 10.77.0.2 >/dev/null 2>&1 && break
+    done
+    ip netns exec "$ns-2" iperf3 -s -1 >/dev/null 2>&1 &
+    IPERF_SERVER=$!
+    for _ in $(seq 100); do
+      ip netns exec "$ns-2" ss -Hlnu 'sport = :5201' 2>/dev/null | grep -q . && break
+      ip netns exec "$ns-2" ss -Hlnt 'sport = :5201' 2>/dev/null | grep -q . && break
+      sleep 0.05
+    done
+    ip netns exec "$ns-1" iperf3 -c 10.77.0.2 -u -l 1472 -b "${OFDM_IP_KBPS}k" \
+      -t "$CAP_SECONDS" -J >"$json" 2>&1 &
+    IPERF_CLIENT=$!
+  else
+    wait "$IPERF_CLIENT" || echo "bench: iperf3 client at N=$2 failed (see $json)" >&2
+    kill "$IPERF_SERVER" 2>/dev/null || true
+    wait "$IPERF_SERVER" 2>/dev/null || true
+    echo "--iperf-json $json"
+  fi
 }
 
 if stage capacity; then
@@ -357,6 +403,20 @@ if stage ofdm_native; then
   mkdir -p "$OUT/ofdm_native"
   capacity_run ofdm_native "$OFDM_NODES" ofdm_scenario_of
   mark ofdm_native
+fi
+
+if stage ofdm_ip; then
+  echo "== 802.11a/g at 20 Msps with IP on every node: the capacity load plus iperf3 UDP at" \
+    "$OFDM_IP_KBPS kbit/s from node 1 to node 2, MAC $OFDM_IP_MAC, N = $OFDM_IP_NODES"
+  if [ "$(id -u)" != 0 ] || ! command -v iperf3 >/dev/null; then
+    echo "bench: ofdm_ip skipped: needs root and iperf3 (bash scripts/setup.sh installs it)"
+  else
+    mkdir -p "$OUT/ofdm_ip"
+    OFDM_STAGE=ofdm_ip OFDM_EXTRA="ip: {enabled: true}
+mac: {type: $OFDM_IP_MAC}" \
+      capacity_run ofdm_ip "$OFDM_IP_NODES" ofdm_scenario_of iperf_side
+  fi
+  mark ofdm_ip
 fi
 
 if stage virtual; then

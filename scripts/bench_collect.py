@@ -169,12 +169,45 @@ def capacity_row(a):
     cpu = 100.0 * a.cpu_s / a.cpu_wall_s if a.cpu_s is not None and a.cpu_wall_s else nan
     row["cpu_percent"] = cpu
     row["cpu_per_node_percent"] = cpu / a.n
+    iperf = ""
+    if a.iperf_json:
+        row.update(iperf_figures(a.iperf_json))
+        iperf = (f"; iperf3 UDP {row['iperf_goodput_kbps']:.0f} of {row['iperf_offered_kbps']:.0f}"
+                 f" kbit/s, lost {row['iperf_lost_percent']:.2f} %, jitter "
+                 f"{row['iperf_jitter_ms']:.2f} ms")
     append_row(a.out, row)
     print(f"N={a.n:3d}: {'keeps' if keeps else 'does NOT keep'} real time "
           f"(end lag {end_lag:.2f} ms, slope {growth:.3f} ms/s, worst {s['max_lag_ms']:.1f} ms); "
           f"delivery {row['delivery_ratio']:.3f}, round trips {row['round_trip_ratio']:.3f}, "
           f"rtt mean {row['rtt_mean_ms']:.2f} p90 {row['rtt_p90_ms']:.2f} ms; "
-          f"cpu {cpu:.1f} % of a core ({row['cpu_per_node_percent']:.2f} % per node)")
+          f"cpu {cpu:.1f} % of a core ({row['cpu_per_node_percent']:.2f} % per node){iperf}")
+
+
+def iperf_figures(path):
+    """Offered and received rate (kbit/s of UDP payload), loss and jitter of an
+    `iperf3 -u -J` client's report; NaN for each when the report is missing or
+    is an error (iperf3 writes {"error": ...})."""
+    nan = math.nan
+    out = {"iperf_offered_kbps": nan, "iperf_goodput_kbps": nan, "iperf_lost_percent": nan,
+           "iperf_jitter_ms": nan}
+    try:
+        with open(path) as f:
+            end = json.load(f)["end"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return out
+    sent = end.get("sum_sent") or end.get("sum") or {}
+    got = end.get("sum_received") or end.get("sum") or {}
+    out["iperf_offered_kbps"] = float(sent.get("bits_per_second", nan)) / 1e3
+    # iperf3 3.12 reports the receiver's side as sum_received; older ones only
+    # the sender's rate and the receiver's loss in `sum`.
+    if "sum_received" in end:
+        out["iperf_goodput_kbps"] = float(got.get("bits_per_second", nan)) / 1e3
+    else:
+        out["iperf_goodput_kbps"] = (float(got.get("bits_per_second", nan))
+                                     * (1 - float(got.get("lost_percent", nan)) / 100) / 1e3)
+    out["iperf_lost_percent"] = float((end.get("sum") or {}).get("lost_percent", nan))
+    out["iperf_jitter_ms"] = float((end.get("sum") or {}).get("jitter_ms", nan))
+    return out
 
 
 def main():
@@ -191,6 +224,7 @@ def main():
     c.add_argument("--lag-csv")
     c.add_argument("--cpu-s", type=float, help="emulator CPU seconds (user + system) over the load")
     c.add_argument("--cpu-wall-s", type=float, help="wall seconds those CPU seconds were spent in")
+    c.add_argument("--iperf-json", help="an iperf3 -u -J client report run beside the load")
     for p in (r, c):
         p.add_argument("--n", type=int, required=True)
         p.add_argument("--summary-json", required=True)

@@ -190,6 +190,20 @@ def capacity_table(out, name="capacity"):
     return lines
 
 
+def iperf_table(out, name):
+    rows = [r for r in bc.read_rows(os.path.join(out, f"{name}.csv")) if "iperf_goodput_kbps" in r]
+    if not rows:
+        return []
+    lines = ["| N | iperf3 UDP offered kbit/s | received kbit/s | lost % | jitter ms |",
+             "|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['n']} | {fmt(bc.num(r['iperf_offered_kbps']), 0)} | "
+                     f"{fmt(bc.num(r['iperf_goodput_kbps']), 0)} | "
+                     f"{fmt(bc.num(r['iperf_lost_percent']), 2)} | "
+                     f"{fmt(bc.num(r['iperf_jitter_ms']), 2)} |")
+    return lines
+
+
 def virtual_table(out):
     rows = bc.read_rows(os.path.join(out, "virtual_speed.csv"))
     if not rows:
@@ -364,6 +378,12 @@ def main():
                  f"{info.get('ofdm_tick', '?')} (`ofdm_native/scenario_N.yaml`). CPU: the "
                  "emulator's user + system time over the load, in % of one core.\n")
         p += capacity_table(out, "ofdm_native") + [""]
+    if capacity_table(out, "ofdm_ip"):
+        p.append("## 802.11a/g at 20 Msps with IP and iperf3 (`ofdm_ip.csv`)\n")
+        p.append("The ofdm_native scenario with IP on every node (`ip: {enabled: true}`), the "
+                 "same pings on the net ports and, for the whole load, iperf3 UDP (1472-byte "
+                 "datagrams, 1500-byte IP packets) from node 1's namespace to node 2's.\n")
+        p += capacity_table(out, "ofdm_ip") + [""] + iperf_table(out, "ofdm_ip") + [""]
     if virtual_table(out):
         p.append("## Virtual-time speed (`virtual_speed.csv`)\n")
         p += virtual_table(out) + [""]

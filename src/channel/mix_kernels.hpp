@@ -23,6 +23,7 @@
 // mixer.cpp chooses the kernel once from the CPU's features (a plain function
 // pointer, not an ifunc, so it works under the sanitizers too).
 #include <cstddef>
+#include <cstdint>
 
 namespace rfsitl::channel::kernels {
 
@@ -36,11 +37,21 @@ void mix_scalar(const float* const* xs, const float* cs, std::size_t n_in, float
 void mix_avx2(const float* const* xs, const float* cs, std::size_t n_in, float* y, std::size_t n);
 void mix_avx512(const float* const* xs, const float* cs, std::size_t n_in, float* y, std::size_t n);
 
-/// ys[r][t] = sum_i (cs[2(i rows + r)] + j cs[2(i rows + r) + 1]) xs[i][t] for
-/// r < rows <= 4 (each input's row coefficients side by side), bit for bit
-/// mix_avx512 of each row. Preconditions: as mix_avx512; no y overlaps another.
-void mix_rows_avx512(const float* const* xs, const float* cs, std::size_t n_in, std::size_t rows,
-                     float* const* ys, std::size_t n);
+/// ys[r][t] = sum_m (c_r[2 i] + j c_r[2 i + 1]) xs[i][t] with i = idx[m], m <
+/// n_idx, for r < rows <= 4, where row r's coefficients c_r = cs + r stride
+/// (interleaved floats, indexed like xs): bit for bit mix_avx512 of each row
+/// over the inputs idx names, in that order. Preconditions: as mix_avx512; no y
+/// overlaps another.
+void mix_rows_avx512(const float* const* xs, const std::uint32_t* idx, std::size_t n_idx,
+                     const float* cs, std::size_t stride, std::size_t rows, float* const* ys,
+                     std::size_t n);
+
+/// Writes to idx, in order, each i < n_in whose coefficient (cs[r stride + 2i],
+/// cs[r stride + 2i + 1]) is not zero in at least one row r < rows, and returns
+/// how many it wrote (an input all rows weigh by zero adds nothing). idx holds
+/// n_in entries.
+std::size_t nonzero_columns_avx512(const float* cs, std::size_t stride, std::size_t rows,
+                                   std::size_t n_in, std::uint32_t* idx);
 
 /// y[t] += sum_i (c0_i + t d_i) xs[i][t] for t < n, coefficients interleaved
 /// like cs. Preconditions: as mix_avx512.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "mix_kernels.hpp"
@@ -82,30 +83,21 @@ void mix_rows(std::span<const cf32* const> inputs, std::span<const cf32> coeffs,
   }
   constexpr std::size_t kRows = 4;
   const float* xs[kMaxGroup];
-  float cs[2 * kRows * kMaxGroup];
+  for (std::size_t i = 0; i < n_in; ++i) xs[i] = reinterpret_cast<const float*>(inputs[i]);
+  const auto* cs = reinterpret_cast<const float*>(coeffs.data());
+  std::uint32_t idx[kMaxGroup];
   for (std::size_t r0 = 0; r0 < outs.size(); r0 += kRows) {
     const std::size_t rows = std::min(kRows, outs.size() - r0);
     // Inputs whose coefficients are zero for every row of the group are left out.
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < n_in; ++i) {
-      bool any = false;
-      for (std::size_t r = 0; r < rows; ++r) any = any || coeffs[(r0 + r) * n_in + i] != cf32{};
-      if (!any) continue;
-      xs[k] = reinterpret_cast<const float*>(inputs[i]);
-      for (std::size_t r = 0; r < rows; ++r) {
-        const cf32 c = coeffs[(r0 + r) * n_in + i];
-        cs[2 * (k * rows + r)] = c.real();
-        cs[2 * (k * rows + r) + 1] = c.imag();
-      }
-      ++k;
-    }
-    float* ys[kRows];
-    for (std::size_t r = 0; r < rows; ++r) ys[r] = reinterpret_cast<float*>(outs[r0 + r]);
+    const float* group = cs + 2 * r0 * n_in;
+    const std::size_t k = kernels::nonzero_columns_avx512(group, 2 * n_in, rows, n_in, idx);
     if (k == 0) {
       for (std::size_t r = 0; r < rows; ++r) std::fill_n(outs[r0 + r], n, cf32{0.0F, 0.0F});
       continue;
     }
-    kernels::mix_rows_avx512(xs, cs, k, rows, ys, n);
+    float* ys[kRows];
+    for (std::size_t r = 0; r < rows; ++r) ys[r] = reinterpret_cast<float*>(outs[r0 + r]);
+    kernels::mix_rows_avx512(xs, idx, k, group, 2 * n_in, rows, ys, n);
   }
 }
 

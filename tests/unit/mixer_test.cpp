@@ -155,7 +155,7 @@ TEST(Mixer, MixRowsEqualsMixRowByRowBitForBit) {
     state = state * 1664525U + 1013904223U;
     return static_cast<float>(state >> 8) / static_cast<float>(1U << 24) - 0.5F;
   };
-  for (const std::size_t n_in : {1u, 3u, 16u, 40u}) {
+  for (const std::size_t n_in : {1u, 3u, 13u, 16u, 40u}) {
     for (const std::size_t rows : {1u, 2u, 3u, 4u, 5u, 9u}) {
       for (const std::size_t len : {1u, 7u, 8u, 10u, 23u, 24u, 31u, 250u, 1000u}) {
         std::vector<std::vector<cf32>> x(n_in, std::vector<cf32>(len));
