@@ -2,8 +2,9 @@
 # The benchmark suite: set up, build (release), measure, and write CSV files, PNG
 # plots and summary.md into out/bench/ (the paper's numbers beside ours).
 #
-#   bash bench/run_benchmarks.sh            # full run, about 17.5 minutes on 2 cores, plus
-#                                           # up to 3 for fading_per
+#   bash bench/run_benchmarks.sh            # full run; on 2 cores the stages fig4 (in-process
+#                                           # only) fig5 capacity capacity_fading ofdm_native
+#                                           # ofdm_ip virtual mix took 18.5 minutes
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <span>
 
 #include "rfsitl/cluster/mpi_launch.hpp"
 #include "rfsitl/cluster/node_assignment.hpp"
@@ -19,19 +20,12 @@ std::uint64_t fingerprint_hash(const std::string& text) {
   return h;
 }
 
-/// What this slice of distributed runs does not do yet; "" when nothing.
-std::string not_yet(const scenario::Scenario& s, bool ip, bool split) {
-  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    if (s.runs_externally(i) || split) {
-      return "node " + std::to_string(s.nodes[i].id) +
-             " runs its transceiver in another process (phy external or --arch split), which a "
-             "distributed run does not support yet: run it in one process";
-    }
-  }
-  if (ip) {
-    return "--ip (ip.enabled) is not supported in a distributed run yet: run it in one process";
-  }
-  return "";
+std::span<const std::uint8_t> bytes_of(const std::string& text) {
+  return {reinterpret_cast<const std::uint8_t*>(text.data()), text.size()};
+}
+
+std::string text_of(std::span<const std::uint8_t> bytes) {
+  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
 
 }  // namespace
@@ -43,7 +37,7 @@ std::vector<bool> RunRanks::here_mask(std::size_t nodes) const {
 }
 
 std::optional<std::string> start_ranks(const scenario::Scenario& s, const std::string& fingerprint,
-                                       bool ip, bool split, RunRanks& ranks) {
+                                       RunRanks& ranks) {
   if (!cluster::launched_by_mpirun()) return std::nullopt;
   try {
     ranks.peers = cluster::start_mpi();
@@ -68,9 +62,30 @@ std::optional<std::string> start_ranks(const scenario::Scenario& s, const std::s
              "same command on the same scenario file)";
     }
   }
-  if (const std::string why = not_yet(s, ip, split); !why.empty()) return why;
   ranks.owner = cluster::assign_nodes(s, ranks.size);
+  ranks.local_rank = cluster::local_rank();
   return std::nullopt;
+}
+
+std::optional<std::string> agree(RunRanks& ranks, const std::string& error) {
+  if (!ranks.distributed()) {
+    return error.empty() ? std::nullopt : std::optional<std::string>(error);
+  }
+  cluster::Gathered all;
+  ranks.peers->all_gather(bytes_of(error), all);
+  for (std::size_t r = 0; r < all.ranks(); ++r) {
+    if (!all.of(r).empty()) return "rank " + std::to_string(r) + ": " + text_of(all.of(r));
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> gather_texts(RunRanks& ranks, const std::string& mine) {
+  if (!ranks.distributed()) return {mine};
+  cluster::Gathered all;
+  ranks.peers->all_gather(bytes_of(mine), all);
+  std::vector<std::string> out;
+  for (std::size_t r = 0; r < all.ranks(); ++r) out.push_back(text_of(all.of(r)));
+  return out;
 }
 
 std::string rank_file_name(const std::string& path, std::size_t rank) {

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -25,17 +26,30 @@ struct RunRanks {
   /// here() for every node, as LiveSources takes it.
   std::vector<bool> here_mask(std::size_t nodes) const;
   std::size_t ranks_on_host = 1;
+  std::size_t local_rank = 0;  ///< among the ranks on this host
+  /// Whether this process does the host-wide chores (one per host).
+  bool first_on_host() const { return local_rank == 0; }
   engine::Distribution distribution() const { return {peers.get(), owner, ranks_on_host}; }
 };
 
 /// Under mpirun: starts MPI, checks that every rank was given the same
 /// scenario and flags (`fingerprint`: the scenario file's bytes and the
-/// options), refuses what a distributed run cannot do yet (each with its own
-/// message), and shares the nodes out. Every rank reaches the same verdict.
+/// options), and shares the nodes out. Every rank reaches the same verdict.
 /// Returns the error to print and exit 2 with, or nullopt. Without mpirun it
 /// does nothing.
 std::optional<std::string> start_ranks(const scenario::Scenario& s, const std::string& fingerprint,
-                                       bool ip, bool split, RunRanks& ranks);
+                                       RunRanks& ranks);
+
+/// Collective in a distributed run: every rank gives its setup error ("" if
+/// none) and every rank gets the same verdict, the first failing rank's error
+/// prefixed "rank R: ", or nullopt. It is also a barrier: what every rank did
+/// before it is done before any rank goes on. In one process: `error` or
+/// nullopt.
+std::optional<std::string> agree(RunRanks& ranks, const std::string& error);
+
+/// Collective in a distributed run: every rank's `mine`, in rank order (in one
+/// process: {mine}).
+std::vector<std::string> gather_texts(RunRanks& ranks, const std::string& mine);
 
 /// `path` with ".rankR" before its extension ("run.pcapng" -> "run.rank1.pcapng").
 std::string rank_file_name(const std::string& path, std::size_t rank);

@@ -3,6 +3,7 @@
 #include <pthread.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -17,6 +18,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
@@ -286,10 +288,40 @@ void print_summary(engine::Engine& e) {
 
 /// One line per external node: how often its process joined, was dropped and
 /// timed out, so that a flaky flowgraph shows at a glance.
-void print_external_summary(const external::ExternalRuntime& ext) {
-  const nlohmann::json j = ext.summary();
+/// Every rank's ExternalRuntime::summary() (texts, in rank order) as one: the
+/// nodes of all (in scenario order), the counts summed; in a distributed run
+/// also "sockets", each rank's (null for a rank that serves none).
+nlohmann::json merge_external_summaries(const std::vector<std::string>& texts,
+                                        const engine::Engine& engine) {
+  nlohmann::json merged = nlohmann::json::parse(texts.at(0));
+  if (texts.size() == 1) return merged;
+  nlohmann::json sockets = nlohmann::json::array({merged["socket"]});
+  for (std::size_t r = 1; r < texts.size(); ++r) {
+    const nlohmann::json j = nlohmann::json::parse(texts[r]);
+    sockets.push_back(j["socket"]);
+    for (const char* key : {"rejected_connections", "child_restarts"}) {
+      merged[key] = merged[key].get<std::uint64_t>() + j[key].get<std::uint64_t>();
+    }
+    for (const auto& n : j["nodes"]) merged["nodes"].push_back(n);
+  }
+  std::sort(merged["nodes"].begin(), merged["nodes"].end(), [&](const auto& a, const auto& b) {
+    return engine.index_of(a["id"].template get<NodeId>()) <
+           engine.index_of(b["id"].template get<NodeId>());
+  });
+  merged["sockets"] = sockets;
+  return merged;
+}
+
+void print_external_summary(const nlohmann::json& j) {
+  std::string where = j["socket"].is_string() ? j["socket"].get<std::string>() : "";
+  if (j.contains("sockets")) {
+    where.clear();
+    for (const auto& socket : j["sockets"]) {
+      if (socket.is_string()) where += (where.empty() ? "" : ", ") + socket.get<std::string>();
+    }
+  }
   std::printf("external transceivers (%s): %llu connection(s) refused, %llu child restart(s)\n",
-              j["socket"].get<std::string>().c_str(),
+              where.c_str(),
               static_cast<unsigned long long>(j["rejected_connections"].get<std::uint64_t>()),
               static_cast<unsigned long long>(j["child_restarts"].get<std::uint64_t>()));
   for (const auto& n : j["nodes"]) {
@@ -302,11 +334,7 @@ void print_external_summary(const external::ExternalRuntime& ext) {
   std::fflush(stdout);
 }
 
-/// Lock-step needs everyone at the start: waits (Ctrl-C aware) until every
-/// external node has joined or external.start_timeout_s passed. Nodes that did
-/// not join start silent and may join later. False when interrupted.
-void print_ip_banner(const agent_port::IpPorts& ipnet) {
-  const auto& nodes = ipnet.nodes();
+void print_ip_banner(const std::vector<agent_port::IpNodeInfo>& nodes) {
   for (const auto& n : nodes) {
     std::printf("  node %3u: netns %s%s  %s %s  %s  %s  MTU %zu\n", n.id, n.netns.c_str(),
                 n.netns_owned ? "" : " (attached)", n.interface.c_str(), n.mac.c_str(),
@@ -320,10 +348,16 @@ void print_ip_banner(const agent_port::IpPorts& ipnet) {
   std::fflush(stdout);
 }
 
+/// Lock-step needs everyone at the start: waits (Ctrl-C aware) until every
+/// external node served here has joined or external.start_timeout_s passed.
+/// Nodes that did not join start silent and may join later. False when
+/// interrupted. `who` starts the lines ("rfsitl", or "rfsitl: rank R").
 bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenario::Scenario& s,
-                             const sigset_t& signals) {
-  std::printf("rfsitl: external socket %s; waiting up to %.0f s for the external nodes to join\n",
-              ext.socket_path().c_str(), s.external.start_timeout_s);
+                             const sigset_t& signals, const std::string& who) {
+  std::string ids;
+  for (const NodeId id : ext.hub().never_joined()) ids += " " + std::to_string(id);
+  std::printf("%s: external socket %s; waiting up to %.0f s for the external node(s)%s to join\n",
+              who.c_str(), ext.socket_path().c_str(), s.external.start_timeout_s, ids.c_str());
   std::fflush(stdout);
   const timespec poll{0, 20'000'000};
   for (double waited = 0.0;; waited += 0.02) {
@@ -331,13 +365,14 @@ bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenari
     if (missing.empty()) return true;
     const int sig = sigtimedwait(&signals, nullptr, &poll);
     if (sig == SIGINT || sig == SIGTERM) {
-      std::printf("rfsitl: interrupted while waiting for external nodes\n");
+      std::printf("%s: interrupted while waiting for external nodes\n", who.c_str());
       return false;
     }
     if (waited >= s.external.start_timeout_s) {
-      std::string ids;
-      for (const NodeId id : missing) ids += " " + std::to_string(id);
-      std::printf("rfsitl: starting without node(s)%s: silent until they join\n", ids.c_str());
+      std::string absent;
+      for (const NodeId id : missing) absent += " " + std::to_string(id);
+      std::printf("%s: starting without node(s)%s: silent until they join\n", who.c_str(),
+                  absent.c_str());
       return true;
     }
   }
@@ -382,7 +417,7 @@ int run(const RunOptions& o) {
     return 2;
   }
   RunRanks ranks;
-  if (const auto why = start_ranks(s, run_fingerprint(o), s.ip.enabled, o.arch == "split", ranks)) {
+  if (const auto why = start_ranks(s, run_fingerprint(o), ranks)) {
     std::fprintf(stderr, "rfsitl run: %s\n", why->c_str());
     return 2;
   }
@@ -432,13 +467,21 @@ int run(const RunOptions& o) {
   }
   auto servers = agent_port::make_net_ports(sc);
   // With IP, Ethernet frames go to the nodes' interfaces and the rest on to
-  // the net ports. Made now: without the privileges nothing else starts.
+  // the net ports. Made now: without the privileges nothing else starts. In a
+  // distributed run each rank serves its own nodes, one rank per host claims
+  // the namespaces' prefix, and all wait for the claims (agree() is a
+  // barrier) before any makes a namespace.
   std::unique_ptr<agent_port::IpPorts> ipnet;
   if (s.ip.enabled) {
+    std::string error;
     try {
-      ipnet = agent_port::make_ip_ports(s, *servers);
+      ipnet = agent_port::make_ip_ports(s, *servers,
+                                        {ranks.here_mask(s.nodes.size()), ranks.first_on_host()});
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+      error = e.what();
+    }
+    if (const auto why = agree(ranks, error)) {
+      std::fprintf(stderr, "rfsitl run: %s\n", why->c_str());
       return 2;
     }
   }
@@ -456,8 +499,14 @@ int run(const RunOptions& o) {
   // A distributed run's ranks each trace their own nodes, into files of their own.
   const std::string pcap_path =
       ranks.distributed() ? rank_file_name(o.pcap_path, ranks.rank) : o.pcap_path;
+  std::string setup_error;
   try {
-    external = external::ExternalRuntime::create(s);
+    // A distributed run's ranks each serve their own external nodes, on a
+    // socket of their own (rank_file_name: /tmp/rfsitl-<base>.rank<R>.sock).
+    external = external::ExternalRuntime::create(
+        s, {ranks.here_mask(s.nodes.size()),
+            ranks.distributed() ? rank_file_name(external::external_socket_path(s), ranks.rank)
+                                : std::string()});
     engine = engine::make_engine(
         s, sink, external ? external->transceiver_factory() : engine::TransceiverFactory{},
         ranks.distribution());
@@ -503,7 +552,11 @@ int run(const RunOptions& o) {
     if (ipnet) ipnet->start(*engine);
     if (external) external->start_children();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    setup_error = e.what();
+  }
+  // Every rank starts, or none does (one process: its own verdict).
+  if (const auto why = agree(ranks, setup_error)) {
+    std::fprintf(stderr, "rfsitl run: %s\n", why->c_str());
     // Nothing ran: leave no empty summary or trace behind to be mistaken for a
     // run's results.
     if (summary_out.is_open()) {
@@ -518,7 +571,22 @@ int run(const RunOptions& o) {
     std::fputs(describe_ranks(s, ranks).c_str(), stdout);
     std::fflush(stdout);
   }
-  if (ipnet) print_ip_banner(*ipnet);
+  // Every rank's interfaces, which rank 0 prints and puts in the summary.
+  std::vector<agent_port::IpNodeInfo> ip_nodes;
+  nlohmann::json ip_stale = nlohmann::json::array();
+  if (ipnet) {
+    const nlohmann::json mine = ipnet->summary();
+    for (const std::string& text :
+         gather_texts(ranks, nlohmann::json{mine["nodes"], mine["removed_stale"]}.dump())) {
+      const nlohmann::json theirs = nlohmann::json::parse(text);
+      for (auto& n : agent_port::ip_nodes_from_json(theirs[0])) ip_nodes.push_back(std::move(n));
+      for (const auto& name : theirs[1]) ip_stale.push_back(name);
+    }
+    std::sort(ip_nodes.begin(), ip_nodes.end(), [&](const auto& a, const auto& b) {
+      return engine->index_of(a.id) < engine->index_of(b.id);
+    });
+    if (speaks) print_ip_banner(ip_nodes);
+  }
   if (dashboard) {
     const char* control = !o.dashboard_control ? "off; --dashboard-control allows it"
                           : !token_needed      ? "allowed"
@@ -535,7 +603,9 @@ int run(const RunOptions& o) {
     }
     std::fflush(stdout);
   }
-  if (external && !wait_for_external_nodes(*external, s, signals)) {
+  const std::string who =
+      ranks.distributed() ? "rfsitl: rank " + std::to_string(ranks.rank) : "rfsitl";
+  if (external && external->serves_any() && !wait_for_external_nodes(*external, s, signals, who)) {
     print_summary(*engine);
     return 1;
   }
@@ -626,6 +696,10 @@ int run(const RunOptions& o) {
       }
     }
   }
+  // Collective in a distributed run: every rank's external nodes.
+  const nlohmann::json external_summary =
+      external ? merge_external_summaries(gather_texts(ranks, external->summary().dump()), *engine)
+               : nlohmann::json();
   if (!speaks) return 0;
   print_summary(*engine);
   if (ranks.distributed()) {
@@ -634,13 +708,24 @@ int run(const RunOptions& o) {
                 rank_summary(*engine, tick_s).c_str());
     std::fflush(stdout);
   }
-  if (external) print_external_summary(*external);
+  if (external) print_external_summary(external_summary);
   if (summary_out.is_open()) {
     nlohmann::json j = monitor::stats_with_links_json(s, *engine, sources->status_fn());
-    if (external) j["external"] = external->summary();
+    if (external) j["external"] = external_summary;
     if (pcap) j["pcap"] = pcap->summary();
     if (sigmf) j["sigmf"] = sigmf->summary();
-    if (ipnet) j["ip"] = ipnet->summary();
+    if (ipnet) {
+      j["ip"] = ipnet->summary();
+      if (ranks.distributed()) {
+        // Every rank's interfaces; the frame counts were this rank's alone
+        // (the nodes' own counters hold every rank's).
+        j["ip"]["nodes"] = nlohmann::json::array();
+        for (const auto& n : ip_nodes) j["ip"]["nodes"].push_back(agent_port::ip_node_json(n));
+        j["ip"]["removed_stale"] = ip_stale;
+        j["ip"].erase("frames_to_tap");
+        j["ip"].erase("frames_from_tap");
+      }
+    }
     j["mac"] = {{"type", s.mac.type}, {"description", engine->mac_description(0)}};
     if (ranks.distributed()) {
       nlohmann::json per_rank = nlohmann::json::array();

@@ -54,15 +54,20 @@ struct IpNode {
 
 class IpPortsImpl final : public IpPorts {
  public:
-  IpPortsImpl(const scenario::Scenario& s, engine::FrameSink& agents)
-      : scenario_(s), agents_(agents), prefix_(prefix_for(s.ports.net_base)) {
+  IpPortsImpl(const scenario::Scenario& s, engine::FrameSink& agents, IpPlacement placement)
+      : scenario_(s),
+        agents_(agents),
+        prefix_(prefix_for(s.ports.net_base)),
+        here_(std::move(placement.here)) {
     if (const auto missing = ip::missing_ip_privileges()) throw std::runtime_error(*missing);
-    claim_.emplace(ip::RunClaim::claim(prefix_));
-    for (const std::string& name : claim_->removed_stale()) {
-      spdlog::warn(
-          "ip: removed network namespace {} left by an earlier run on net base {} "
-          "that is gone",
-          name, s.ports.net_base);
+    if (placement.claim) {
+      claim_.emplace(ip::RunClaim::claim(prefix_));
+      for (const std::string& name : claim_->removed_stale()) {
+        spdlog::warn(
+            "ip: removed network namespace {} left by an earlier run on net base {} "
+            "that is gone",
+            name, s.ports.net_base);
+      }
     }
     for (const auto& n : s.nodes) known_.set(n.id);
   }
@@ -76,13 +81,17 @@ class IpPortsImpl final : public IpPorts {
     if (!v4 || !v6) throw std::runtime_error("ip: the scenario's subnet or IPv6 prefix is invalid");
     nodes_ = std::vector<IpNode>(scenario_.nodes.size());
     try {
-      for (std::size_t i = 0; i < nodes_.size(); ++i) open_node(i, *v4, *v6);
+      for (std::size_t i = 0; i < nodes_.size(); ++i) {
+        if (serves(i)) open_node(i, *v4, *v6);
+      }
     } catch (...) {
       close_all();
       throw;
     }
     info_.clear();
-    for (const IpNode& n : nodes_) info_.push_back(n.info);
+    for (const IpNode& n : nodes_) {
+      if (n.tap) info_.push_back(n.info);
+    }
     stop_fd_ = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
     if (stop_fd_ < 0) {
       close_all();
@@ -114,16 +123,7 @@ class IpPortsImpl final : public IpPorts {
     nlohmann::json j;
     j["prefix"] = prefix_;
     j["nodes"] = nlohmann::json::array();
-    for (const IpNodeInfo& n : info_) {
-      j["nodes"].push_back({{"id", n.id},
-                            {"netns", n.netns},
-                            {"netns_owned", n.netns_owned},
-                            {"interface", n.interface},
-                            {"mac", n.mac},
-                            {"ipv4", n.ipv4},
-                            {"ipv6", n.ipv6},
-                            {"mtu", n.mtu}});
-    }
+    for (const IpNodeInfo& n : info_) j["nodes"].push_back(ip_node_json(n));
     j["removed_stale"] = removed_stale();
     j["frames_from_tap"] = from_tap_.load();
     j["frames_to_tap"] = to_tap_.load();
@@ -203,11 +203,14 @@ class IpPortsImpl final : public IpPorts {
     }
   }
 
+  bool serves(std::size_t i) const { return here_.empty() || (i < here_.size() && here_[i]); }
+
   /// The reader thread: every interface's frames to its node's TX queue.
   void read_loop() {
     std::vector<pollfd> fds;
     fds.push_back({stop_fd_, POLLIN, 0});
-    for (const IpNode& n : nodes_) fds.push_back({n.tap->fd(), POLLIN, 0});
+    // A node served elsewhere has no interface here: poll ignores fd -1.
+    for (const IpNode& n : nodes_) fds.push_back({n.tap ? n.tap->fd() : -1, POLLIN, 0});
     std::vector<std::uint8_t> buf(kReadBufferBytes);
     for (;;) {
       if (poll(fds.data(), fds.size(), -1) < 0) {
@@ -264,6 +267,7 @@ class IpPortsImpl final : public IpPorts {
   const scenario::Scenario& scenario_;
   engine::FrameSink& agents_;
   std::string prefix_;
+  std::vector<bool> here_;
   std::optional<ip::RunClaim> claim_;
   std::bitset<256> known_;
   engine::Engine* engine_ = nullptr;
@@ -277,9 +281,37 @@ class IpPortsImpl final : public IpPorts {
 
 }  // namespace
 
+nlohmann::json ip_node_json(const IpNodeInfo& n) {
+  return {{"id", n.id},
+          {"netns", n.netns},
+          {"netns_owned", n.netns_owned},
+          {"interface", n.interface},
+          {"mac", n.mac},
+          {"ipv4", n.ipv4},
+          {"ipv6", n.ipv6},
+          {"mtu", n.mtu}};
+}
+
+std::vector<IpNodeInfo> ip_nodes_from_json(const nlohmann::json& nodes) {
+  std::vector<IpNodeInfo> out;
+  for (const auto& n : nodes) {
+    IpNodeInfo i;
+    i.id = n.at("id").get<NodeId>();
+    i.netns = n.at("netns").get<std::string>();
+    i.netns_owned = n.at("netns_owned").get<bool>();
+    i.interface = n.at("interface").get<std::string>();
+    i.mac = n.at("mac").get<std::string>();
+    i.ipv4 = n.at("ipv4").get<std::string>();
+    i.ipv6 = n.at("ipv6").get<std::string>();
+    i.mtu = n.at("mtu").get<std::size_t>();
+    out.push_back(std::move(i));
+  }
+  return out;
+}
+
 std::unique_ptr<IpPorts> make_ip_ports(const scenario::Scenario& scenario,
-                                       engine::FrameSink& agents) {
-  return std::make_unique<IpPortsImpl>(scenario, agents);
+                                       engine::FrameSink& agents, IpPlacement placement) {
+  return std::make_unique<IpPortsImpl>(scenario, agents, std::move(placement));
 }
 
 }  // namespace rfsitl::agent_port

@@ -13,17 +13,22 @@ std::string external_socket_path(const scenario::Scenario& s) {
   return "/tmp/rfsitl-" + std::to_string(s.ports.net_base) + ".sock";
 }
 
-ExternalRuntime::ExternalRuntime(const scenario::Scenario& s) : scenario_(s) {
+ExternalRuntime::ExternalRuntime(const scenario::Scenario& s, const ExternalPlacement& placement)
+    : scenario_(s) {
+  const auto here = [&](std::size_t i) {
+    return placement.here.empty() || (i < placement.here.size() && placement.here[i]);
+  };
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    if (!s.runs_externally(i)) continue;
+    if (!s.runs_externally(i) || !here(i)) continue;
     const scenario::PhyChoice& phy = s.phy_of(i);
     const bool samples = phy.external_program();
     specs_.push_back(
         ExternalNodeSpec{i, s.nodes[i].id, samples ? Role::kSamples : Role::kTransceiver,
                          samples ? std::string() : phy_to_json(phy.type, phy.settings)});
   }
+  if (specs_.empty()) return;  // every external node is served elsewhere
   HubSettings hs;
-  hs.socket_path = external_socket_path(s);
+  hs.socket_path = placement.socket_path.empty() ? external_socket_path(s) : placement.socket_path;
   // validate() bounds reply_timeout_s to (0, 3600], so the cast is defined.
   hs.reply_timeout_ms = static_cast<int>(std::ceil(s.external.reply_timeout_s * 1e3));
   hs.sample_rate_hz = s.timing.sample_rate_hz;
@@ -35,9 +40,12 @@ ExternalRuntime::ExternalRuntime(const scenario::Scenario& s) : scenario_(s) {
   hub_ = make_external_hub(hs, specs_);
 }
 
-std::unique_ptr<ExternalRuntime> ExternalRuntime::create(const scenario::Scenario& s) {
+std::unique_ptr<ExternalRuntime> ExternalRuntime::create(const scenario::Scenario& s,
+                                                         ExternalPlacement placement) {
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    if (s.runs_externally(i)) return std::unique_ptr<ExternalRuntime>(new ExternalRuntime(s));
+    if (s.runs_externally(i)) {
+      return std::unique_ptr<ExternalRuntime>(new ExternalRuntime(s, placement));
+    }
   }
   return nullptr;
 }
@@ -45,8 +53,15 @@ std::unique_ptr<ExternalRuntime> ExternalRuntime::create(const scenario::Scenari
 engine::TransceiverFactory ExternalRuntime::transceiver_factory() const {
   return [this](std::size_t index, const scenario::PhyChoice& phy,
                 engine::NodeCounters& counters) -> std::unique_ptr<phy::Transceiver> {
-    const auto link = hub_->link(index);
-    if (!link) return phy::make_transceiver(phy.type, phy.settings);
+    const auto link = hub_ ? hub_->link(index) : nullptr;
+    if (!link) {
+      // Not served here: a built-in PHY, or an external node of another rank,
+      // whose transceiver this process only asks for its figures (for a
+      // program's samples those of the proxy; for a PHY in another process,
+      // the PHY's own, as the proxy's shadow gives them).
+      if (phy.external_program()) return make_sample_port_stand_in();
+      return phy::make_transceiver(phy.type, phy.settings);
+    }
     link->count_stalls_in(counters.external_stalls);
     if (phy.external_program()) {
       return make_sample_port_transceiver(link, scenario_.timing.tick_samples,
@@ -57,6 +72,7 @@ engine::TransceiverFactory ExternalRuntime::transceiver_factory() const {
 }
 
 void ExternalRuntime::start_children() {
+  if (!hub_) return;
   ChildSettings cs;
   cs.executable = current_executable();
   cs.socket_path = hub_->socket_path();
@@ -69,6 +85,13 @@ void ExternalRuntime::start_children() {
 
 nlohmann::json ExternalRuntime::summary() const {
   nlohmann::json j = nlohmann::json::object();
+  j["nodes"] = nlohmann::json::array();
+  if (!hub_) {
+    j["socket"] = nullptr;
+    j["rejected_connections"] = 0;
+    j["child_restarts"] = 0;
+    return j;
+  }
   j["socket"] = hub_->socket_path();
   j["rejected_connections"] = hub_->rejected();
   j["child_restarts"] = child_restarts();

@@ -105,7 +105,32 @@ class SamplePortTransceiver final : public phy::Transceiver {
   std::uint64_t reported_overflows_ = 0;   // the connection's latest total
 };
 
+/// Another rank's samples node: the figures of SamplePortTransceiver, and no
+/// work (this rank never runs the node's TX or RX).
+class SamplePortStandIn final : public phy::Transceiver {
+ public:
+  std::size_t max_payload() const override { return 0; }
+  std::size_t frame_samples(std::size_t) const override { return 0; }
+  double sensitivity_snr_db() const override { return 0.0; }
+  std::size_t rx_latency_samples() const override { return 0; }
+  bool tx_busy() const override { return true; }
+  bool rx_busy() const override { return true; }
+  std::size_t start_frame(const phy::FrameTag&, std::span<const std::uint8_t>) override {
+    return 0;
+  }
+  std::size_t transmit(std::span<cf32> out) override {
+    std::fill(out.begin(), out.end(), cf32{});
+    return 0;
+  }
+  void receive(std::span<const cf32>, phy::RxHandler&) override {}
+  void reset_receiver() override {}
+};
+
 }  // namespace
+
+std::unique_ptr<phy::Transceiver> make_sample_port_stand_in() {
+  return std::make_unique<SamplePortStandIn>();
+}
 
 std::unique_ptr<phy::Transceiver> make_sample_port_transceiver(
     std::shared_ptr<NodeLink> link, std::uint32_t tick_samples,

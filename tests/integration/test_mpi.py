@@ -1,18 +1,22 @@
 """A distributed run (`mpirun -n K rfsitl run ...`, Open MPI, oversubscribed on
 this machine) gives the per-node counters of one process: a seeded
 virtual-time run with traffic, collisions, moving nodes and frames decided by
-the noise. Also: ranks given different scenarios are refused, and what a
-distributed run does not do yet is refused with its reason.
+the noise, also with every transceiver in a child process (--arch split).
+Also: ranks given different scenarios are refused, and a real-time run with
+IP on every node carries pings between nodes of different ranks (root only).
 """
 
 import json
 import os
 import shutil
+import signal
 import subprocess
 import tempfile
+import time
 import unittest
 
-from harness import BIN, assert_accounted, pick_port_bases
+from harness import ARRIVAL_S, BIN, assert_accounted, pick_port_bases
+from test_ip import ip_tools_missing, netns_names, remove_netns, wait_reachable
 
 MPIRUN = shutil.which("mpirun")
 # As root (CI), Open MPI wants both flags; oversubscribe: more ranks than cores.
@@ -115,12 +119,102 @@ class MpiTest(unittest.TestCase):
             self.assertIn("rank 1 was given another scenario or other flags than rank 0",
                           r.stderr)
 
-    def test_what_is_not_supported_yet_is_refused_with_its_reason(self):
+    def test_split_transceivers_on_two_ranks_give_the_counters_of_one_process(self):
+        # --arch split: every node's PHY in an `rfsitl node` child, each rank
+        # starting its own nodes' children on a socket of its own.
         with tempfile.TemporaryDirectory() as d:
-            r, summary = run(d, "split", 2, extra=["--arch", "split"])
-            self.assertNotEqual(r.returncode, 0)
-            self.assertIsNone(summary)
-            self.assertIn("a distributed run does not support yet", r.stderr)
+            r, one = run(d, "one", 0)
+            self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+            r, split = run(d, "split2", 2, extra=["--arch", "split"])
+            self.assertEqual(r.returncode, 0, r.stdout[-3000:] + r.stderr[-3000:])
+            for a, b in zip(one["nodes"], split["nodes"]):
+                for key in COMPARED:
+                    self.assertEqual(a[key], b[key], f"node {a['id']} {key}")
+            ext = split["external"]
+            self.assertEqual([n["id"] for n in ext["nodes"]], list(range(1, 7)))
+            self.assertTrue(all(n["joins"] >= 1 and n["role"] == "transceiver"
+                                for n in ext["nodes"]), ext)
+            self.assertEqual(len(ext["sockets"]), 2)
+            self.assertTrue(all(p.endswith(f".rank{k}.sock") for k, p in enumerate(ext["sockets"])),
+                            ext["sockets"])
+
+IP_SCENARIO = """name: mpi-ip-test
+time: {mode: realtime}
+mac: {type: csma}
+ip: {enabled: true}
+nodes:
+  - {id: 1, position: {x: 0, y: 0, z: 10}}
+  - {id: 2, position: {x: 10, y: 0, z: 10}}
+  - {id: 3, position: {x: 0, y: 10, z: 10}}
+  - {id: 4, position: {x: 10, y: 10, z: 10}}
+"""
+
+
+@unittest.skipIf(MPIRUN is None, "Open MPI's mpirun is not installed (scripts/setup.sh)")
+@unittest.skipIf(ip_tools_missing(), ip_tools_missing() or "")
+class MpiIpTest(unittest.TestCase):
+    def test_real_time_ip_nodes_on_two_ranks_reach_each_other(self):
+        # Two ranks, each serving two nodes' namespaces; rank 0 lists all four.
+        # Node 1 pings every other node, so frames cross between the ranks'
+        # TAP interfaces both ways, in real time (a barrier per tick).
+        with tempfile.TemporaryDirectory() as d:
+            net_base, loc_base = pick_port_bases({i: None for i in range(1, 5)})
+            prefix = f"rfsitl-{net_base}"
+            self.addCleanup(remove_netns, prefix)
+            summary = os.path.join(d, "ip.json")
+            log = open(os.path.join(d, "out.log"), "w+")
+            self.addCleanup(log.close)
+            proc = subprocess.Popen(
+                [MPIRUN, "-n", "2", *MPI_FLAGS, BIN, "run", write(d, IP_SCENARIO),
+                 "--net-base", str(net_base), "--loc-base", str(loc_base), "--no-dashboard",
+                 "--summary-json", summary],
+                stdout=log, stderr=subprocess.STDOUT, text=True, env=MPI_ENV)
+
+            def output():
+                log.flush()
+                with open(log.name) as f:
+                    return f.read()
+
+            def stop():
+                if proc.poll() is None:
+                    proc.send_signal(signal.SIGTERM)
+                    try:
+                        proc.wait(60)
+                    except subprocess.TimeoutExpired:
+                        proc.kill()
+                        proc.wait()
+            self.addCleanup(stop)
+            deadline = time.monotonic() + 120
+            while "rfsitl: ready" not in output():
+                self.assertIsNone(proc.poll(), output()[-3000:])
+                self.assertLess(time.monotonic(), deadline, output()[-3000:])
+                time.sleep(0.1)
+            banner = output()
+            for i in range(1, 5):
+                self.assertIn(f"netns {prefix}-{i}", banner)
+            self.assertEqual(netns_names(prefix), [f"{prefix}-{i}" for i in range(1, 5)])
+            for i in (2, 3, 4):
+                wait_reachable(f"{prefix}-1", f"10.77.0.{i}", timeout=2 * ARRIVAL_S)
+            stop()
+            # Open MPI 4.1's mpirun exits 1 after it forwarded a SIGTERM; the
+            # ranks' own ends are in its output (a rank that failed is named).
+            text = output()
+            self.assertNotIn("non-zero status", text)
+            self.assertNotIn("exited on signal", text)
+            self.assertEqual(text.count("rfsitl: SIGTERM received, shutting down"), 2, text[-3000:])
+            self.assertIn("rfsitl summary:", text)
+            with open(summary) as f:
+                j = json.load(f)
+        owners = j["distributed"]["owner_rank"]
+        self.assertEqual(sorted(set(owners)), [0, 1])
+        self.assertEqual([n["id"] for n in j["ip"]["nodes"]], [1, 2, 3, 4])
+        self.assertEqual(netns_names(prefix), [], "namespaces left after the run")
+        # Replies came from both ranks' nodes: every node delivered frames.
+        for n in j["nodes"]:
+            self.assertGreater(n["delivered"], 0, n)
+        for rank in j["distributed"]["per_rank"]:
+            self.assertGreater(rank["wall_s"], 0)
+            self.assertGreaterEqual(rank["max_lag_s"], 0)
 
 
 if __name__ == "__main__":

@@ -51,7 +51,8 @@ class IpPorts : public engine::FrameSink {
   /// made (not attached ones). Idempotent; also done by the destructor.
   virtual void stop() = 0;
 
-  /// After start(): every node's interface, by index.
+  /// After start(): the interface of every node this process serves
+  /// (IpPlacement::here), in scenario order.
   virtual const std::vector<IpNodeInfo>& nodes() const = 0;
 
   /// Namespaces of a dead run with the same prefix, removed when this run
@@ -63,11 +64,28 @@ class IpPorts : public engine::FrameSink {
   virtual nlohmann::json summary() const = 0;
 };
 
-/// Checks privileges and claims the run's prefix (removing a dead run's
-/// namespaces). Throws std::runtime_error with what is missing and how to run
-/// it. `agents` receives every frame that is not an Ethernet frame; it must
-/// outlive the returned object.
+/// Which nodes this process serves, and whether it claims the prefix. A run
+/// in one process serves and claims everything; in a distributed run each rank
+/// serves its own nodes and one rank per host claims, before any of them
+/// starts (the claim sweeps every <prefix>-* namespace it finds).
+struct IpPlacement {
+  std::vector<bool> here;  ///< by node index; empty: every node
+  bool claim = true;
+};
+
+/// One node's entry of IpPorts::summary()'s "nodes".
+nlohmann::json ip_node_json(const IpNodeInfo& node);
+
+/// Converts the JSON of IpPorts::summary()'s "nodes" back (a distributed
+/// run's rank 0 gathers its peers' nodes this way). Throws nlohmann's
+/// exceptions on JSON of another shape.
+std::vector<IpNodeInfo> ip_nodes_from_json(const nlohmann::json& nodes);
+
+/// Checks privileges and (placement.claim) claims the run's prefix, removing
+/// a dead run's namespaces. Throws std::runtime_error with what is missing
+/// and how to run it. `agents` receives every frame that is not an Ethernet
+/// frame; it must outlive the returned object.
 std::unique_ptr<IpPorts> make_ip_ports(const scenario::Scenario& scenario,
-                                       engine::FrameSink& agents);
+                                       engine::FrameSink& agents, IpPlacement placement = {});
 
 }  // namespace rfsitl::agent_port

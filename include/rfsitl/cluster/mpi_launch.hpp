@@ -27,6 +27,11 @@ std::unique_ptr<Peers> start_mpi();
 /// 1 when not told).
 std::size_t ranks_on_this_host();
 
+/// This rank's place among those on its host, 0..ranks_on_this_host()-1
+/// (OMPI_COMM_WORLD_LOCAL_RANK; 0 when not told): host-wide chores (claiming
+/// the IP namespaces' prefix) fall to local rank 0.
+std::size_t local_rank();
+
 /// The host this rank runs on (MPI_Get_processor_name), for messages.
 std::string host_name();
 

@@ -32,4 +32,9 @@ std::unique_ptr<phy::Transceiver> make_sample_port_transceiver(
     std::shared_ptr<NodeLink> link, std::uint32_t tick_samples,
     std::atomic<std::uint64_t>& overflows);
 
+/// What a rank of a distributed run holds for a "samples" node another rank
+/// serves: the proxy's figures (no payload, sensitivity and latency 0), and
+/// no samples in or out (the engine never runs another rank's transceiver).
+std::unique_ptr<phy::Transceiver> make_sample_port_stand_in();
+
 }  // namespace rfsitl::external
