@@ -427,10 +427,11 @@ if stage virtual; then
     "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" \
       --csv "$OUT/virtual_speed.csv"
     # The same with Rayleigh fading on every link, printed beside the flat channel's.
-    "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" --fading rayleigh
+    "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" --fading rayleigh \
+      --csv "$OUT/virtual_speed.csv"
     # And a TDL fading channel: propagation delay, TR 38.901 TDL-C taps, each fading.
     "$BENCH"/rfsitl_virtual_speed --nodes "$n" --duration "$VIRT_SECONDS" --multipath tdl_c \
-      --fading rayleigh
+      --fading rayleigh --csv "$OUT/virtual_speed.csv"
   done
   mark virtual
 fi

@@ -175,10 +175,12 @@ int main(int argc, char** argv) {
     probe.close();
     std::ofstream out(o.csv, std::ios::app);
     if (fresh) {
-      out << "nodes,skip_idle,rate_hz,virtual_s,wall_s,speed_x,frames,delivered,lost,"
-             "queue_dropped,receiver_ticks_run,receiver_ticks_skipped\n";
+      out << "nodes,skip_idle,fading,multipath,rate_hz,virtual_s,wall_s,speed_x,frames,delivered,"
+             "lost,queue_dropped,receiver_ticks_run,receiver_ticks_skipped\n";
     }
-    out << o.nodes << "," << (o.no_skip ? 0 : 1) << "," << o.rate_hz << "," << st.virtual_s << ","
+    out << o.nodes << "," << (o.no_skip ? 0 : 1) << "," << (o.fading.empty() ? "none" : o.fading)
+        << "," << (o.multipath.empty() ? "none" : o.multipath) << "," << o.rate_hz << ","
+        << st.virtual_s << ","
         << wall << "," << speed << "," << total.handed_in << "," << total.delivered << ","
         << total.lost_total() << "," << total.queue_dropped << "," << st.receiver_ticks_run << ","
         << st.receiver_ticks_skipped << "\n";

@@ -137,6 +137,8 @@ def headline(out, floor):
         lines.append(f"| real-time capacity, 1 ping/node/s{what} | not real time | {ours} | | "
                      f">= {goal} nodes | {met(n_rt is not None and n_rt >= goal)} |")
     for r in virt:
+        if r.get("fading", "none") != "none" or r.get("multipath", "none") != "none":
+            continue  # the flat channel's speed is the target's; the rest in their table
         s = bc.num(r["speed_x"])
         lines.append(f"| virtual-time speed, N = {r['nodes']}, 1 frame/node/s | | "
                      f"{fmt(s, 1, 'x real time')} | | >= {bc.TARGET_VIRTUAL_SPEED:.0f}x | "
@@ -208,12 +210,23 @@ def virtual_table(out):
     rows = bc.read_rows(os.path.join(out, "virtual_speed.csv"))
     if not rows:
         return []
-    lines = ["| N | simulated s | wall s | speed | frames | delivered "
+    lines = ["| N | channel | simulated s | wall s | speed | of flat | frames | delivered "
              "| receiver-ticks run / skipped |",
-             "|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|"]
+    flat = {}
     for r in rows:
-        lines.append(f"| {r['nodes']} | {fmt(bc.num(r['virtual_s']), 1)} | "
-                     f"{fmt(bc.num(r['wall_s']))} | {fmt(bc.num(r['speed_x']), 1)}x | "
+        # Files of older runs have no fading or multipath column: a flat channel.
+        fading, multipath = r.get("fading", "none"), r.get("multipath", "none")
+        speed = bc.num(r["speed_x"])
+        if fading == "none" and multipath == "none":
+            flat[r["nodes"]] = speed
+        channel = "flat" if fading == "none" and multipath == "none" else " + ".join(
+            x for x in (multipath if multipath != "none" else "",
+                        f"{fading} fading" if fading != "none" else "") if x)
+        base = flat.get(r["nodes"])
+        lines.append(f"| {r['nodes']} | {channel} | {fmt(bc.num(r['virtual_s']), 1)} | "
+                     f"{fmt(bc.num(r['wall_s']))} | {fmt(speed, 1)}x | "
+                     f"{fmt(speed / base if base else math.nan)} | "
                      f"{r['frames']} | {r['delivered']} | {r['receiver_ticks_run']} / "
                      f"{r['receiver_ticks_skipped']} |")
     return lines

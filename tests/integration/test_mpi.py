@@ -1,13 +1,18 @@
 """A distributed run (`mpirun -n K rfsitl run ...`, Open MPI, oversubscribed on
 this machine) gives the per-node counters of one process: a seeded
 virtual-time run with traffic, collisions, moving nodes and frames decided by
-the noise, also with every transceiver in a child process (--arch split).
+the noise, also with every transceiver in a child process (--arch split) and
+with a program in the "samples" role as one node (it hears and sends the same
+samples whichever rank serves it).
 Also: ranks given different scenarios are refused, and a real-time run with
 IP on every node carries pings between nodes of different ranks (root only).
 """
 
+import cmath
+import glob
 import json
 import os
+import random
 import shutil
 import signal
 import subprocess
@@ -15,7 +20,8 @@ import tempfile
 import time
 import unittest
 
-from harness import ARRIVAL_S, BIN, assert_accounted, pick_port_bases
+from harness import (ARRIVAL_S, BIN, ExternalSamplesNode, assert_accounted, pack_samples,
+                     pick_port_bases)
 from test_ip import ip_tools_missing, netns_names, remove_netns, wait_reachable
 
 MPIRUN = shutil.which("mpirun")
@@ -137,6 +143,90 @@ class MpiTest(unittest.TestCase):
             self.assertEqual(len(ext["sockets"]), 2)
             self.assertTrue(all(p.endswith(f".rank{k}.sock") for k, p in enumerate(ext["sockets"])),
                             ext["sockets"])
+
+SAMPLES_SCENARIO = """name: mpi-samples
+seed: 5
+time: {mode: virtual, duration_s: 0.4, tick_samples: 1000}
+nodes:
+  - {id: 1, position: {x: 0, y: 0, z: 10}}
+  - {id: 2, position: {x: 20, y: 0, z: 10}}
+  - {id: 3, position: {x: 10, y: 3, z: 10}, phy: {type: external}}
+  - {id: 4, position: {x: 0, y: 20, z: 10}}
+traffic:
+  - {at_s: 0.005, src: 1, dst: 2, size_bytes: 80, repeat: 30, interval_s: 0.011}
+  - {at_s: 0.007, src: 4, dst: 1, size_bytes: 60, repeat: 30, interval_s: 0.013}
+"""
+SAMPLES_TICK = 1000
+
+
+class Jammer:
+    """Node 3: noise bursts in three ticks of every seven, the same bursts on
+    every run (seeded), and a record of what it heard."""
+
+    def __init__(self, socket_path):
+        rng = random.Random(5)
+        burst = pack_samples([0.3 * cmath.exp(2j * cmath.pi * rng.random())
+                              for _ in range(SAMPLES_TICK)])
+        self.node = ExternalSamplesNode(socket_path, 3, lambda tick: burst if tick % 7 < 3 else b"")
+
+
+def run_with_jammer(d, name, ranks, net_base, loc_base):
+    """The samples scenario with node 3 a Jammer on the socket of the rank
+    that serves it (found by its name). Returns (process, summary, jammer)."""
+    path = write(d, SAMPLES_SCENARIO, f"{name}.yaml")
+    summary = os.path.join(d, f"{name}.json")
+    cmd = [BIN, "run", path, "--net-base", str(net_base), "--loc-base", str(loc_base),
+           "--no-dashboard", "--summary-json", summary]
+    if ranks > 0:
+        cmd = [MPIRUN, "-n", str(ranks), *MPI_FLAGS, *cmd]
+    pattern = f"/tmp/rfsitl-{net_base}.rank*.sock" if ranks else f"/tmp/rfsitl-{net_base}.sock"
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            env=MPI_ENV)
+    jammer = None
+    try:
+        deadline = time.monotonic() + 120
+        while not glob.glob(pattern):
+            if proc.poll() is not None or time.monotonic() > deadline:
+                raise AssertionError(f"no socket {pattern}: {proc.communicate()[0][-3000:]}")
+            time.sleep(0.05)
+        jammer = Jammer(glob.glob(pattern)[0])
+        out = proc.communicate(timeout=300)[0]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        if jammer:
+            jammer.node.close()
+    if not os.path.exists(summary):
+        return proc, out, None, jammer
+    with open(summary) as f:
+        return proc, out, json.load(f), jammer
+
+
+@unittest.skipIf(MPIRUN is None, "Open MPI's mpirun is not installed (scripts/setup.sh)")
+class MpiSamplesProgramTest(unittest.TestCase):
+    def test_a_samples_program_on_either_rank_gives_the_run_of_one_process(self):
+        with tempfile.TemporaryDirectory() as d:
+            net_base, loc_base = pick_port_bases({i: None for i in range(1, 5)})
+            proc, out, one, jam_one = run_with_jammer(d, "one", 0, net_base, loc_base)
+            self.assertEqual(proc.returncode, 0, out[-3000:])
+            proc, out, two, jam_two = run_with_jammer(d, "two", 2, net_base, loc_base)
+            self.assertEqual(proc.returncode, 0, out[-3000:])
+        # The bursts collide with some frames and not others.
+        lost = sum(n["lost"]["collision"] + n["lost"]["decode_failure"] for n in one["nodes"])
+        self.assertGreater(lost, 0)
+        self.assertGreater(sum(n["delivered"] for n in one["nodes"]), 10)
+        for a, b in zip(one["nodes"], two["nodes"]):
+            for key in COMPARED:
+                self.assertEqual(a[key], b[key], f"node {a['id']} {key}")
+        # The program heard the same samples, tick by tick, from another rank's
+        # transmitters as from the same process's.
+        self.assertGreater(len(jam_one.node.rx_power), 10)
+        self.assertEqual(jam_one.node.rx_power, jam_two.node.rx_power)
+        self.assertEqual(jam_two.node.discontinuities, 0)
+        self.assertEqual([n["id"] for n in two["external"]["nodes"]], [3])
+        self.assertEqual(sum(s is not None for s in two["external"]["sockets"]), 1)
+
 
 IP_SCENARIO = """name: mpi-ip-test
 time: {mode: realtime}
