@@ -2,118 +2,33 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
-#include <cmath>
-#include <deque>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
+#include "engine_node.hpp"
 #include "event_reporter.hpp"
 #include "frame_kind.hpp"
+#include "link_snapshots.hpp"
 #include "mobility_driver.hpp"
+#include "node_macs.hpp"
 #include "node_state_inbox.hpp"
+#include "node_tx_report.hpp"
 #include "rank_link.hpp"
 #include "rfsitl/channel/channel.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/common/spsc_ring.hpp"
-#include "rfsitl/common/xoshiro256.hpp"
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/engine/tick_clock.hpp"
 #include "rfsitl/engine/traffic_schedule.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
-#include "rfsitl/registry/mac_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
 
 namespace rfsitl::engine {
 namespace {
-
-/// A frame waiting in a node's TX queue. It may start at the first tick that
-/// begins at or after `not_before`, the virtual time at which it arrived.
-struct QueuedFrame {
-  NetFrame frame;
-  SampleTime not_before = 0;
-};
-
-/// One decode reported by a receiver during the RX phase, handled afterwards.
-struct Decoded {
-  phy::FrameTag tag;
-  std::vector<std::uint8_t> payload;
-  bool payload_valid;
-};
-
-/// A MAC's verdict on a frame that awaited one, for the ledger (serially).
-struct PendingVerdict {
-  std::uint32_t frame;  // the serial of the frame's first attempt
-  mac::Verdict verdict;
-};
-
-struct Node : phy::RxHandler, mac::FrameQueue {
-  NodeId id = 0;
-  std::unique_ptr<phy::Transceiver> radio;
-  std::unique_ptr<mac::Mac> mac;
-  std::unique_ptr<SpscRing<QueuedFrame>> queue;  // from the agent ports (submit())
-  std::unique_ptr<std::mutex> producers;         // taken by submit(): one producer at a time
-  std::vector<std::uint8_t> typed_payload;       // the frame on the air with kind and MAC header
-  std::deque<NetFrame> injected;                 // scenario traffic, engine thread only
-  SampleTime queue_now = 0;                      // the tick the MAC takes frames at
-  // Carrier sense (MACs that listen): the energy threshold (absolute power),
-  // and what this tick's RX phase found.
-  std::optional<float> busy_power;
-  bool sensed_busy = false;
-  bool hears_others = false;  // another transmitter's signal reaches it this tick
-  // The MAC's frame that awaits a verdict (the serial of its first attempt),
-  // and a verdict reached during the TX phase, for the ledger.
-  std::uint32_t mac_frame = 0;
-  std::optional<PendingVerdict> verdict;
-  bool started_awaits_verdict = false;  // the frame started this tick awaits one
-  bool started_first_attempt = true;    // ... and is not a repeat
-  std::vector<cf32> tx;                 // this tick's TX samples
-  std::vector<cf32> rx;                 // this tick's RX samples
-  bool active = false;                  // tx carries signal this tick
-  std::size_t tx_samples = 0;           // leading samples of tx that carry signal
-  bool receiver_blanked = false;        // T/R switch on transmit since last tick
-  std::uint32_t frames_started = 0;
-  // Set by the TX phase when a frame starts this tick; consumed serially.
-  std::optional<std::pair<std::uint32_t, NetFrame>> started;
-  std::size_t started_len = 0;
-  SampleTime frame_end = 0;           // end of the latest frame this node started
-  channel::Channel::Scratch scratch;  // this receiver's, for the channel's receive()
-  std::vector<Decoded> decoded;
-  /// kWatched: the receiver is idle (skipped) but an observer wants its input,
-  /// so the input is computed and the receiver is not run: watching changes no
-  /// receiver's state, hence no outcome.
-  /// kElsewhere: another rank of a distributed run owns the node.
-  enum class RxTick { kRan, kSkipped, kBlanked, kWatched, kElsewhere } rx_tick = RxTick::kRan;
-  bool watched = false;  // an observer wants this tick's samples
-  std::size_t index = 0;
-  SampleTime tick_time = 0;
-  const EventReporter* reporter = nullptr;
-
-  void on_rx(const phy::RxEvent& ev) override {
-    if (!ev.header_valid) return;
-    decoded.push_back(Decoded{ev.tag, {ev.payload.begin(), ev.payload.end()}, ev.payload_valid});
-    if (reporter->active()) reporter->decoded(index, tick_time, ev);
-  }
-
-  // mac::FrameQueue: the scenario's traffic first, then the TX queue's head
-  // once it has arrived.
-  const NetFrame* peek() override {
-    if (!injected.empty()) return &injected.front();
-    const QueuedFrame* head = queue->peek();
-    return head != nullptr && head->not_before <= queue_now ? &head->frame : nullptr;
-  }
-  NetFrame take() override {
-    if (!injected.empty()) {
-      NetFrame f = std::move(injected.front());
-      injected.pop_front();
-      return f;
-    }
-    return std::move(queue->try_pop()->frame);
-  }
-};
 
 class LockStepEngine final : public Engine {
  public:
@@ -186,7 +101,7 @@ class LockStepEngine final : public Engine {
       sensitivity.push_back(node.radio->sensitivity_snr_db());
       latency = std::max(latency, node.radio->rx_latency_samples());
     }
-    make_macs(latency);
+    make_macs(nodes_, counters_, scenario_, block_, latency, air_.front_end_gain());
     // Remote transceivers come first in the TX dealing order so that each gets
     // a worker of its own (the pool has at least as many workers as remotes).
     for (std::size_t i = 0; i < n; ++i) {
@@ -253,19 +168,10 @@ class LockStepEngine final : public Engine {
 
   std::size_t queue_depth(std::size_t node) const override { return nodes_[node].queue->size(); }
 
-  std::vector<std::optional<Ecef>> positions() const override {
-    std::lock_guard lock(snapshot_mutex_);
-    return positions_snapshot_;
-  }
+  std::vector<std::optional<Ecef>> positions() const override { return snapshots_.positions(); }
 
   std::vector<float> link_gains() const override {
-    std::shared_ptr<const channel::ChannelMatrix> links;
-    {
-      std::lock_guard lock(snapshot_mutex_);
-      if (!links_snapshot_) return gains_snapshot_;
-      links = links_snapshot_;
-    }
-    return faded_gains(std::move(links));
+    return snapshots_.link_gains(status_.virtual_samples.load(std::memory_order_relaxed));
   }
 
   void set_position(std::size_t node, std::optional<Ecef> position) override {
@@ -370,18 +276,12 @@ class LockStepEngine final : public Engine {
     }) || moved;
     const bool turned = inbox_.motion_changed();
     if (moved || turned) {
-      geometry_stale_ = true;
+      snapshots_.mark_stale();
       // Fading follows each node along its velocity between updates; antennas
       // turn with their bodies.
       if (channel_.time_varying() || channel_.depends_on_attitude()) copy_motions();
     }
-    if (geometry_stale_ && now_ >= next_geometry_copy_) {
-      if (channel_.time_varying()) {
-        copy_links();
-      } else {
-        copy_gains();
-      }
-    }
+    snapshots_.maybe_copy(channel_, now_);
   }
 
   void copy_motions() {
@@ -395,77 +295,6 @@ class LockStepEngine final : public Engine {
       }
       channel_.set_attitude(i, attitude);
     }
-  }
-
-  /// The large-scale gains, for other threads (the dashboard): an O(N^2) copy,
-  /// so at most every kGeometryCopyPeriodS of virtual time, and only after
-  /// something moved.
-  void copy_gains() {
-    const std::size_t n = nodes_.size();
-    std::vector<std::optional<Ecef>> pos(n);
-    std::vector<float> gains(n * n);
-    for (std::size_t i = 0; i < n; ++i) {
-      pos[i] = channel_.position(i);
-      for (std::size_t m = 0; m < n; ++m) gains[i * n + m] = channel_.power_gain(i, m);
-    }
-    {
-      std::lock_guard lock(snapshot_mutex_);
-      positions_snapshot_ = std::move(pos);
-      gains_snapshot_ = std::move(gains);
-    }
-    copied(kGeometryCopyPeriodS);
-  }
-
-  /// After a copy for other threads: the next waits for a move and `period_s`
-  /// of virtual time.
-  void copied(double period_s) {
-    geometry_stale_ = false;
-    next_geometry_copy_ =
-        now_ + static_cast<SampleTime>(period_s * scenario_.timing.sample_rate_hz);
-  }
-
-  /// With time-varying stages a link's gain changes with time alone (fading
-  /// along the nodes' velocities, a trace's time axis), so other threads get
-  /// a copy of the links themselves (coefficients, responses, positions,
-  /// velocities: what power_gain_at reads), from which link_gains() computes
-  /// the gains of the current moment (faded_gains). The engine thread only
-  /// copies, after something moved or turned, at most every kFadedCopyPeriodS
-  /// (an O(N^2) copy, with each dispersive link's response); the stages'
-  /// evaluations, far dearer, are the reader's, and happen only when someone
-  /// reads. It only reads the channel, so it changes no outcome.
-  void copy_links() {
-    std::vector<std::optional<Ecef>> pos(nodes_.size());
-    for (std::size_t i = 0; i < pos.size(); ++i) pos[i] = channel_.position(i);
-    auto links = std::make_shared<const channel::ChannelMatrix>(channel_);
-    {
-      std::lock_guard lock(snapshot_mutex_);
-      positions_snapshot_ = std::move(pos);
-      links_snapshot_ = std::move(links);
-    }
-    copied(kFadedCopyPeriodS);
-  }
-
-  /// Every link's power_gain_at() on `links` (the latest copy) at the current
-  /// virtual time rounded down to a multiple of kFadedCopyPeriodS: computed by
-  /// the first reader of each period and kept for the others (the dashboard
-  /// reads twice per push, and every viewer shares a push).
-  std::vector<float> faded_gains(std::shared_ptr<const channel::ChannelMatrix> links) const {
-    const double fs = scenario_.timing.sample_rate_hz;
-    const auto period = std::max<SampleTime>(1, static_cast<SampleTime>(kFadedCopyPeriodS * fs));
-    const SampleTime now = status_.virtual_samples.load(std::memory_order_relaxed);
-    const SampleTime at = now - now % period;
-    std::lock_guard lock(faded_mutex_);
-    if (links != faded_of_ || at != faded_at_) {
-      const std::size_t n = links->size();
-      const double t_s = static_cast<double>(at) / fs;
-      faded_.resize(n * n);
-      for (std::size_t i = 0; i < n; ++i) {
-        for (std::size_t m = 0; m < n; ++m) faded_[i * n + m] = links->power_gain_at(i, m, t_s);
-      }
-      faded_of_ = std::move(links);
-      faded_at_ = at;
-    }
-    return faded_;
   }
 
   void run_tick() {
@@ -839,26 +668,8 @@ class LockStepEngine final : public Engine {
     mine.updates = inbox_.take();
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
       const Node& node = nodes_[i];
-      if (!owned_[i] || (!node.active && !node.verdict && !node.started)) continue;
-      TxReport t;
-      t.node = static_cast<std::uint32_t>(i);
-      t.tx_samples = static_cast<std::uint32_t>(node.tx_samples);
-      if (node.verdict) {
-        t.has_verdict = true;
-        t.verdict_frame = node.verdict->frame;
-        t.gave_up = node.verdict->verdict == mac::Verdict::kGaveUp;
-      }
-      if (node.started) {
-        t.started = true;
-        t.serial = node.started->first;
-        t.dst = node.started->second.dst;
-        t.kind = static_cast<std::uint8_t>(node.started->second.kind);
-        t.started_len = static_cast<std::uint32_t>(node.started_len);
-        t.awaits_verdict = node.started_awaits_verdict;
-        t.first_attempt = node.started_first_attempt;
-        t.mac_frame = node.mac_frame;
-      }
-      mine.reports.push_back(t);
+      if (!owned_[i] || !has_tx_report(node)) continue;
+      mine.reports.push_back(tx_report_of(node));
       mine.samples.emplace_back(node.tx.data(), node.tx_samples);
     }
     const std::vector<TxMessageView>& all = link_->exchange_tx(mine);
@@ -877,23 +688,8 @@ class LockStepEngine final : public Engine {
       throw std::runtime_error("tick exchange: rank " + std::to_string(rank) +
                                " reports node index " + std::to_string(t.node) + ", owned here");
     }
-    node.tx_samples = t.tx_samples;
-    node.active = t.tx_samples > 0;
     link_->copy_samples(rank, k, node.tx.data());
-    // The owner's transceiver left zeros after its signal (tx_samples).
-    std::fill(node.tx.begin() + t.tx_samples, node.tx.end(), cf32{});
-    if (t.has_verdict) {
-      node.verdict = PendingVerdict{
-          t.verdict_frame, t.gave_up ? mac::Verdict::kGaveUp : mac::Verdict::kAcknowledged};
-    }
-    if (t.started) {
-      node.started_len = t.started_len;
-      node.started_awaits_verdict = t.awaits_verdict;
-      node.started_first_attempt = t.first_attempt;
-      node.mac_frame = t.mac_frame;
-      NetFrame frame{node.id, t.dst, {}, static_cast<FrameKind>(t.kind)};
-      node.started.emplace(t.serial, std::move(frame));
-    }
+    take_tx_report(node, t);
   }
 
   /// Distributed run: every rank takes the owners' counters of the nodes it
@@ -918,43 +714,6 @@ class LockStepEngine final : public Engine {
     }
     std::lock_guard lock(snapshot_mutex_);
     ranks_snapshot_ = std::move(ranks);
-  }
-
-  /// Every node's MAC (the scenario's), after the transceivers exist.
-  void make_macs(std::size_t rx_latency) {
-    const mac::MacComponent* component = mac::find_mac(scenario_.mac.type);
-    if (component == nullptr) {
-      throw std::invalid_argument("mac: unknown type '" + scenario_.mac.type + "'");
-    }
-    const config::Settings settings =
-        scenario_.mac.settings.size() == component->info.settings.size()
-            ? scenario_.mac.settings
-            : component->info.defaults();
-    for (Node& node : nodes_) {
-      phy::Transceiver* radio = node.radio.get();
-      mac::MacContext c;
-      c.id = node.id;
-      c.index = node.index;
-      c.num_nodes = nodes_.size();
-      c.sample_rate_hz = scenario_.timing.sample_rate_hz;
-      c.tick_samples = block_;
-      c.radio_max_payload = radio->max_payload();
-      c.frame_samples = [radio](std::size_t bytes) { return radio->frame_samples(bytes); };
-      c.rx_latency_samples = rx_latency;
-      std::uint64_t mix = scenario_.seed ^ (0x6D61630000000000ULL + node.id);
-      c.seed = splitmix64(mix);
-      c.counters = &counters_[node.index].mac;
-      node.mac = component->make(settings, c);
-      if (const auto db = node.mac->carrier_sense_db()) {
-        // The receiver's input is scaled by the front end's gain g = 1 / sigma:
-        // the noise has unit power there (and so would a -120 dB floor
-        // without noise, which g is set for).
-        const double g = air_.front_end_gain();
-        const double sigma2 = scenario_.channel.noise_variance;
-        const double noise_in_y = sigma2 > 0.0 ? g * g * sigma2 : 1.0;
-        node.busy_power = static_cast<float>(noise_in_y * std::pow(10.0, *db / 10.0));
-      }
-    }
   }
 
   /// Once per tick, lock-free: relaxed atomic stores that any thread may read
@@ -1007,28 +766,8 @@ class LockStepEngine final : public Engine {
   EventReporter reporter_;
   bool defer_outcomes_ = false;  // replay(): outcomes wait until the decode is reported
   std::vector<LedgerOutcome> deferred_outcomes_;
-  mutable std::mutex snapshot_mutex_;
-  std::vector<std::optional<Ecef>> positions_snapshot_;
-  std::vector<float> gains_snapshot_;
-  bool geometry_stale_ = true;  // positions changed since the last copy (or none yet)
-  SampleTime next_geometry_copy_ = 0;
-  static constexpr double kGeometryCopyPeriodS = 0.02;
-  // With time-varying stages: how often the links are copied after a move,
-  // and the step in virtual time of the gains that link_gains() computes. A
-  // person reads the dashboard's 4 snapshots a second (fast fading, tens to
-  // hundreds of Hz at drone speeds, is sampled there, never followed), so 10
-  // steps a second of virtual time are more than anyone can watch, and each
-  // step evaluates the time-varying stages once per link and path (a fading
-  // stage: M sines and cosines each, 32 by default), N^2 P evaluations that
-  // the engine thread would pay whether anyone watches or not; so the reader
-  // pays instead, and only while someone reads.
-  static constexpr double kFadedCopyPeriodS = 0.1;
-  std::shared_ptr<const channel::ChannelMatrix> links_snapshot_;  // time-varying chains only
-  mutable std::mutex faded_mutex_;  // the gains last computed from links_snapshot_:
-  mutable std::vector<float> faded_;
-  mutable std::shared_ptr<const channel::ChannelMatrix> faded_of_;  // ... from this copy
-  mutable SampleTime faded_at_ = 0;                                 // ... at this time
-
+  LinkSnapshots snapshots_{scenario_.timing.sample_rate_hz};
+  mutable std::mutex snapshot_mutex_;  // ranks_snapshot_
   NodeStateInbox inbox_;
 
   struct AtomicStatus {
