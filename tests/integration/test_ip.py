@@ -345,8 +345,12 @@ class IpMesh(unittest.TestCase):
                     logs.append(open(os.path.join(emu.dir.name, f"babeld{i}.log"), "w"))
                     babels.append(subprocess.Popen(cmd + ["rf0"], stdout=subprocess.DEVNULL,
                                                    stderr=logs[-1]))
-                # Node 3 is reachable from node 1 only through node 2.
-                wait_reachable(ns[1], "10.77.0.3")
+                # Node 3 is reachable from node 1 only through node 2, once the
+                # three babelds have heard each other and announced their
+                # routes: on a loaded machine (babeld's timers run on the wall
+                # clock, the frames wait for the emulator) that can take longer
+                # than one frame's ARRIVAL_S.
+                wait_reachable(ns[1], "10.77.0.3", timeout=3 * ARRIVAL_S)
                 self.assertIn("via 10.77.0.2", route_to(ns[1], "10.77.0.3"))
                 relayed_before = live_node(emu, 2)["handed_in"]
                 ping = in_netns(ns[1], "ping", "-c", "10", "-i", "0.3", "-W", "3", "10.77.0.3")
@@ -358,14 +362,14 @@ class IpMesh(unittest.TestCase):
                 feed = emu.feed(2)
                 feed.move_local(60, 2000, 10)
                 emu.wait_until(lambda st: "via 10.77.0.2" not in route_to(ns[1], "10.77.0.3"),
-                               what="the route through node 2 to break")
+                               timeout=3 * ARRIVAL_S, what="the route through node 2 to break")
                 lost = in_netns(ns[1], "ping", "-c", "3", "-i", "0.3", "-W", "1", "10.77.0.3")
                 self.assertNotEqual(lost.returncode, 0, lost.stdout)  # "No route to host"
                 self.assertNotRegex(lost.stdout, r"[1-9]\d* received")
 
                 # Back in the middle: the route comes back.
                 feed.move_local(60, 0, 10)
-                wait_reachable(ns[1], "10.77.0.3")
+                wait_reachable(ns[1], "10.77.0.3", timeout=3 * ARRIVAL_S)
                 self.assertIn("via 10.77.0.2", route_to(ns[1], "10.77.0.3"))
         finally:
             for b in babels:
