@@ -20,8 +20,8 @@ import tempfile
 import time
 import unittest
 
-from harness import (ARRIVAL_S, BIN, ExternalSamplesNode, assert_accounted, pack_samples,
-                     pick_port_bases)
+from harness import (ARRIVAL_S, BIN, LOAD_TOLERANT, ExternalSamplesNode, assert_accounted,
+                     pack_samples, pick_port_bases)
 from test_ip import ip_tools_missing, netns_names, remove_netns, wait_reachable
 
 MPIRUN = shutil.which("mpirun")
@@ -37,7 +37,7 @@ MPI_ENV = dict(os.environ, OMPI_MCA_mca_base_component_disable_dlclose="1",
                + ":fast_unwind_on_malloc=0")
 SCENARIO = """name: mpi-test
 seed: 11
-time: {mode: virtual, duration_s: 1.0}
+time: {mode: virtual, duration_s: 1.0, tick_samples: 1000}
 channel: {noise_power_db: -93}
 engine: {mobility_update_s: 0.01}
 nodes:
@@ -75,7 +75,7 @@ def run(d, name, ranks, scenario=SCENARIO, extra=()):
            "--no-dashboard", "--summary-json", summary, *extra]
     if ranks > 0:
         cmd = [MPIRUN, "-n", str(ranks), *MPI_FLAGS, *cmd]
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=MPI_ENV)
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600, env=MPI_ENV)
     if not os.path.exists(summary):
         return r, None
     with open(summary) as f:
@@ -228,9 +228,12 @@ class MpiSamplesProgramTest(unittest.TestCase):
         self.assertEqual(sum(s is not None for s in two["external"]["sockets"]), 1)
 
 
+# Every tick needs both ranks scheduled, so on a loaded machine the run uses
+# the harness's load-tolerant ticks (4000 samples at a tenth of real time: 25
+# exchanges a wall second), without a MAC (csma's slots would be whole 4 ms
+# ticks, and a ping's wall-clock wait is 1 s).
 IP_SCENARIO = """name: mpi-ip-test
 time: {mode: realtime}
-mac: {type: csma}
 ip: {enabled: true}
 nodes:
   - {id: 1, position: {x: 0, y: 0, z: 10}}
@@ -257,7 +260,7 @@ class MpiIpTest(unittest.TestCase):
             proc = subprocess.Popen(
                 [MPIRUN, "-n", "2", *MPI_FLAGS, BIN, "run", write(d, IP_SCENARIO),
                  "--net-base", str(net_base), "--loc-base", str(loc_base), "--no-dashboard",
-                 "--summary-json", summary],
+                 "--summary-json", summary, *LOAD_TOLERANT],
                 stdout=log, stderr=subprocess.STDOUT, text=True, env=MPI_ENV)
 
             def output():
@@ -284,7 +287,7 @@ class MpiIpTest(unittest.TestCase):
                 self.assertIn(f"netns {prefix}-{i}", banner)
             self.assertEqual(netns_names(prefix), [f"{prefix}-{i}" for i in range(1, 5)])
             for i in (2, 3, 4):
-                wait_reachable(f"{prefix}-1", f"10.77.0.{i}", timeout=2 * ARRIVAL_S)
+                wait_reachable(f"{prefix}-1", f"10.77.0.{i}", timeout=3 * ARRIVAL_S)
             stop()
             # Open MPI 4.1's mpirun exits 1 after it forwarded a SIGTERM; the
             # ranks' own ends are in its output (a rank that failed is named).
