@@ -180,10 +180,9 @@ int main(int argc, char** argv) {
     }
     out << o.nodes << "," << (o.no_skip ? 0 : 1) << "," << (o.fading.empty() ? "none" : o.fading)
         << "," << (o.multipath.empty() ? "none" : o.multipath) << "," << o.rate_hz << ","
-        << st.virtual_s << ","
-        << wall << "," << speed << "," << total.handed_in << "," << total.delivered << ","
-        << total.lost_total() << "," << total.queue_dropped << "," << st.receiver_ticks_run << ","
-        << st.receiver_ticks_skipped << "\n";
+        << st.virtual_s << "," << wall << "," << speed << "," << total.handed_in << ","
+        << total.delivered << "," << total.lost_total() << "," << total.queue_dropped << ","
+        << st.receiver_ticks_run << "," << st.receiver_ticks_skipped << "\n";
   }
   return 0;
 }

@@ -95,8 +95,7 @@ inline Tail tail_of(std::size_t samples) {
 template <std::size_t R, typename In>
 struct RowsBlock {
   template <std::size_t K>
-  __attribute__((target("avx512f"), always_inline)) static void run(const In& in,
-                                                                    std::size_t n_in,
+  __attribute__((target("avx512f"), always_inline)) static void run(const In& in, std::size_t n_in,
                                                                     float* const* ys, std::size_t t,
                                                                     __mmask16 last) {
     avx512_rows_block<R, K>(in, n_in, ys, t, last);
@@ -175,11 +174,8 @@ void mix_avx512(const float* const* xs, const float* cs, std::size_t n_in, float
   rows<1>(Packed<1>{xs, cs}, n_in, ys, n);
 }
 
-__attribute__((target("avx512f"))) std::size_t nonzero_columns_avx512(const float* cs,
-                                                                     std::size_t stride,
-                                                                     std::size_t rows_,
-                                                                     std::size_t n_in,
-                                                                     std::uint32_t* idx) {
+__attribute__((target("avx512f"))) std::size_t nonzero_columns_avx512(
+    const float* cs, std::size_t stride, std::size_t rows_, std::size_t n_in, std::uint32_t* idx) {
   // Eight inputs (16 floats) of every row per step: a bit per float that is not
   // zero, then one per input (its re or its im), in input order.
   const __m512 zero = _mm512_setzero_ps();
