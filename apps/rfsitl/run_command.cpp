@@ -286,8 +286,6 @@ void print_summary(engine::Engine& e) {
   std::fflush(stdout);
 }
 
-/// One line per external node: how often its process joined, was dropped and
-/// timed out, so that a flaky flowgraph shows at a glance.
 /// Every rank's ExternalRuntime::summary() (texts, in rank order) as one: the
 /// nodes of all (in scenario order), the counts summed; in a distributed run
 /// also "sockets", each rank's (null for a rank that serves none).
@@ -312,6 +310,8 @@ nlohmann::json merge_external_summaries(const std::vector<std::string>& texts,
   return merged;
 }
 
+/// One line per external node: how often its process joined, was dropped and
+/// timed out, so that a flaky flowgraph shows at a glance.
 void print_external_summary(const nlohmann::json& j) {
   std::string where = j["socket"].is_string() ? j["socket"].get<std::string>() : "";
   if (j.contains("sockets")) {
@@ -354,10 +354,14 @@ void print_ip_banner(const std::vector<agent_port::IpNodeInfo>& nodes) {
 /// interrupted. `who` starts the lines ("rfsitl", or "rfsitl: rank R").
 bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenario::Scenario& s,
                              const sigset_t& signals, const std::string& who) {
-  std::string ids;
-  for (const NodeId id : ext.hub().never_joined()) ids += " " + std::to_string(id);
+  const auto id_list = [](const std::vector<NodeId>& ids) {
+    std::string text;
+    for (const NodeId id : ids) text += " " + std::to_string(id);
+    return text;
+  };
   std::printf("%s: external socket %s; waiting up to %.0f s for the external node(s)%s to join\n",
-              who.c_str(), ext.socket_path().c_str(), s.external.start_timeout_s, ids.c_str());
+              who.c_str(), ext.socket_path().c_str(), s.external.start_timeout_s,
+              id_list(ext.hub().never_joined()).c_str());
   std::fflush(stdout);
   const timespec poll{0, 20'000'000};
   for (double waited = 0.0;; waited += 0.02) {
@@ -369,10 +373,8 @@ bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenari
       return false;
     }
     if (waited >= s.external.start_timeout_s) {
-      std::string absent;
-      for (const NodeId id : missing) absent += " " + std::to_string(id);
       std::printf("%s: starting without node(s)%s: silent until they join\n", who.c_str(),
-                  absent.c_str());
+                  id_list(missing).c_str());
       return true;
     }
   }
