@@ -307,7 +307,6 @@ class MpiIpTest(unittest.TestCase):
             self.assertGreater(n["delivered"], 0, n)
         for rank in j["distributed"]["per_rank"]:
             self.assertGreater(rank["wall_s"], 0)
-            self.assertGreaterEqual(rank["max_lag_s"], 0)
 
 
 if __name__ == "__main__":
