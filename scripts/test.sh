@@ -7,6 +7,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh asan
+# SoapySDRServer cannot load a sanitized SoapySDR module (README, "SoapySDR"),
+# so test_soapy_remote serves a release build of the module alone.
+if [ -f build/asan/src/soapy/libSoapyRfsitl.so ]; then
+  bash scripts/build.sh release rfsitl_soapy
+  export RFSITL_SOAPY_RELEASE_DIR="$PWD/build/release/src/soapy"
+fi
 # The GNU Radio blocks: build and install (a no-op when up to date), then their
 # own QA tests (blocks against a stand-in emulator, in isolation).
 bash scripts/build_gr.sh --test

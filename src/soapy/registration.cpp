@@ -151,11 +151,16 @@ SoapySDR::Device* make_rfsitl(const SoapySDR::Kwargs& args) {
     std::erase_if(found, [](const Found& f) { return f.node.claimed; });
   }
   if (found.size() != 1) {
+    const std::string where = arg(args, "socket").empty()
+                                  ? " (searched /tmp/rfsitl-*.sock; pass socket=PATH)"
+                                  : " at " + arg(args, "socket");
+    const std::string node = arg(args, "node");
     throw std::runtime_error(
         std::string("rfsitl: ") +
-        (found.empty() ? "no emulator node waits for an SDR program"
-                       : std::to_string(found.size()) + " nodes match; choose one with node=ID") +
-        (arg(args, "socket").empty() ? " (searched /tmp/rfsitl-*.sock; pass socket=PATH)" : ""));
+        (!found.empty()    ? std::to_string(found.size()) + " nodes match; choose one with node=ID"
+         : node.empty()    ? "no emulator node waits for an SDR program"
+                           : "node " + node + " is not a node with phy: {type: external}") +
+        where);
   }
   const Found& f = found.front();
   if (RfsitlDevice::held_here(f.socket, f.node.node_id)) {

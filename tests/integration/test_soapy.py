@@ -36,12 +36,12 @@ def soapy_missing():
     return None
 
 
-def soapy_env():
-    """The environment for programs that load the module. A sanitized build's
-    module needs the ASan runtime loaded first, which SoapySDRUtil and python
-    are not built with."""
-    env = dict(os.environ, SOAPY_SDR_PLUGIN_PATH=MODULE_DIR)
-    module = os.path.join(MODULE_DIR, "libSoapyRfsitl.so")
+def soapy_env(module_dir=MODULE_DIR):
+    """The environment for programs that load the module (from module_dir). A
+    sanitized build's module needs the ASan runtime loaded first, which
+    SoapySDRUtil and python are not built with."""
+    env = dict(os.environ, SOAPY_SDR_PLUGIN_PATH=module_dir)
+    module = os.path.join(module_dir, "libSoapyRfsitl.so")
     ldd = subprocess.run(["ldd", module], capture_output=True, text=True).stdout
     if "libasan" in ldd:
         def lib(name):
@@ -382,6 +382,59 @@ class SoapyModuleTest(unittest.TestCase):
         refused = [e for _, e in outs if "refused the claim" in e or "already claimed" in e]
         self.assertEqual((len(got), len(refused)), (1, 1), (first_lines, outs))
 
+    def test_bad_device_arguments_raise_errors_that_name_them(self):
+        emu, sock = self.start(wait_for_nodes=False)
+        expected = {
+            "node=abc": "node=abc is not a node id (1..254)",
+            "node=0": "node=0 is not a node id (1..254)",
+            "node=255": "node=255 is not a node id (1..254)",
+            "node=7": f"node 7 is not a node with phy: {{type: external}} at {sock}",
+            "node=1,takeover=maybe": "takeover=maybe (expected 1 or 0)",
+            "node=1,buffer_ms=0": "buffer_ms=0 (expected 1 .. 60000)",
+            "node=1,buffer_ms=1e9": "buffer_ms=1e9 (expected 1 .. 60000)",
+            "node=1,buffer_ms=10ms": "buffer_ms=10ms (expected 1 .. 60000)",
+        }
+        until = self.program(BAD_ARGUMENTS, sock, *expected)
+        for extra, text in expected.items():
+            self.assertIn(text, until(extra)["error"] or "no error", extra)
+        missing = os.path.join(self.tmp_dir(), "none.sock")
+        until = run_program(self, BAD_ARGUMENTS, missing, "node=1")
+        self.assertIn(missing, until("node=1")["error"] or "no error")
+        self.assertEqual(until.proc.wait(ARRIVAL_S), 0)
+        # None of them claimed a node or upset the emulator.
+        summary = emu.stop()
+        self.assertEqual([n["joins"] for n in summary["external"]["nodes"]], [0, 0])
+
+    def test_takeover_takes_a_held_node_and_the_holder_rejoins_once_it_is_free(self):
+        sock = os.path.join(self.tmp_dir(), "emu.sock")
+        emu, _ = self.start(wait_for_nodes=False, socket=sock)
+        holder = self.program(REJOINS, sock)
+        holder("streaming")
+        # A program that restarts after a crash takes its node back with
+        # takeover=1, although the old claim still holds it.
+        taker = self.program(TAKES_OVER, sock)
+        took = taker("took")
+        self.assertGreater(took["read"], 0)
+        self.assertEqual(took["connected"], "true")
+        self.assertEqual(holder("lost")["ret"], -2)  # SOAPY_SDR_STREAM_ERROR
+        taker.proc.stdin.write("go on\n")
+        taker.proc.stdin.flush()
+        releasing = taker("releasing")
+        self.assertGreater(releasing["read"], 0, "the taker's stream stopped while it held")
+        self.assertEqual(releasing["connected"], "true")
+        taker("closed")
+        self.assertEqual(taker.proc.wait(ARRIVAL_S), 0, "".join(taker.lines))
+        # The holder's rejoins (exclusive) were refused while the taker held
+        # the node, and one succeeds once it is free.
+        back = holder("back", timeout=ARRIVAL_S * 2)
+        self.assertEqual(back["rejoins"], "1")
+        self.assertGreater(back["wall"], releasing["wall"])
+        holder("closed")
+        self.assertEqual(holder.proc.wait(ARRIVAL_S), 0, "".join(holder.lines))
+        summary = emu.stop()
+        joined = [n for n in summary["external"]["nodes"] if n["id"] == 1][0]
+        self.assertEqual(joined["joins"], 3)  # holder, taker, holder again
+
     def tmp_dir(self):
         import tempfile
         d = tempfile.TemporaryDirectory(prefix="rfsitl-soapy-")
@@ -440,13 +493,57 @@ while time.monotonic() < deadline:
         break
 if r.ret > 0:
     say(step="back", read=r.ret, time_ns=r.timeNs, hw_time_ns=d.getHardwareTime(),
-        rejoins=info["rejoins"], link=info["link"], connected=d.readSensor("connected"))
+        rejoins=info["rejoins"], link=info["link"], connected=d.readSensor("connected"),
+        wall=time.time())
 else:
     say(step="stopped", link=info["link"], connected=d.readSensor("connected"))
 d.deactivateStream(rx)
 d.closeStream(rx)
 d = None
 say(step="closed")
+"""
+
+# Takes node 1 over from the program that holds it (takeover=1), streams from
+# it until the test says so, and lets it go.
+TAKES_OVER = r"""
+import json, sys, time
+import numpy as np
+import SoapySDR
+from SoapySDR import SOAPY_SDR_RX, SOAPY_SDR_CF32
+def say(**kw):
+    print(json.dumps(kw), flush=True)
+d = SoapySDR.Device(dict(driver="rfsitl", socket=sys.argv[1], node="1", takeover="1"))
+rx = d.setupStream(SOAPY_SDR_RX, SOAPY_SDR_CF32)
+d.activateStream(rx)
+buf = np.zeros(d.getStreamMTU(rx), np.complex64)
+read = 0
+deadline = time.monotonic() + 120
+while read == 0 and time.monotonic() < deadline:
+    read = max(d.readStream(rx, [buf], len(buf), timeoutUs=100000).ret, 0)
+say(step="took", read=read, connected=d.readSensor("connected"))
+sys.stdin.readline()  # holds the node, reading, until the test has seen the holder lose it
+more = sum(max(d.readStream(rx, [buf], len(buf), timeoutUs=100000).ret, 0) for _ in range(5))
+say(step="releasing", read=more, connected=d.readSensor("connected"), wall=time.time())
+d.deactivateStream(rx)
+d.closeStream(rx)
+d = None
+say(step="closed")
+"""
+
+# Makes a device from each argument string of argv[2:] (after "socket=SOCK,")
+# and prints what SoapySDR raised, or null if it made one.
+BAD_ARGUMENTS = r"""
+import json, sys
+import SoapySDR
+for extra in sys.argv[2:]:
+    args = dict(kv.split("=", 1)
+                for kv in ("driver=rfsitl,socket=" + sys.argv[1] + "," + extra).split(","))
+    try:
+        SoapySDR.Device(args)
+        error = None
+    except RuntimeError as e:
+        error = str(e)
+    print(json.dumps({"step": extra, "error": error}), flush=True)
 """
 
 # Claims node 1 and holds it, so that the other claim meets it.

@@ -23,6 +23,9 @@ from test_soapy import (MODULE_DIR, line_reader, run_program, soapy_env, soapy_m
                         start_emulator)
 
 REMOTE_MODULE = "/usr/lib/x86_64-linux-gnu/SoapySDR/modules0.8/libremoteSupport.so"
+# SoapySDRServer cannot serve a sanitized module (see setUpClass), so this test
+# takes a release build's module when it is given one (scripts/test.sh builds it).
+REMOTE_MODULE_DIR = os.environ.get("RFSITL_SOAPY_RELEASE_DIR", MODULE_DIR)
 SERVER_PORT = 47132  # this project's range (47000-47999); inside the test's namespace
 
 
@@ -136,16 +139,16 @@ class SoapyRemoteTest(unittest.TestCase):
         why = remote_missing()
         if why:
             raise unittest.SkipTest(why)
-        module = os.path.join(MODULE_DIR, "libSoapyRfsitl.so")
+        module = os.path.join(REMOTE_MODULE_DIR, "libSoapyRfsitl.so")
         if not os.path.exists(module):
-            raise AssertionError("the module was not built in " + MODULE_DIR)
+            raise AssertionError("the module was not built in " + REMOTE_MODULE_DIR)
         ldd = subprocess.run(["ldd", module], capture_output=True, text=True).stdout
         if "libasan" in ldd:
             # With the ASan runtime preloaded (which a sanitized module needs),
             # Debian's SoapySDRServer hangs in its Avahi client and never serves.
             raise unittest.SkipTest(
                 "SoapySDRServer cannot load a sanitized module (it hangs connecting to Avahi "
-                "with libasan preloaded): point RFSITL_SOAPY_DIR at a release build's "
+                "with libasan preloaded): point RFSITL_SOAPY_RELEASE_DIR at a release build's "
                 "src/soapy (scripts/build.sh release rfsitl_soapy)")
 
     def namespace(self):
@@ -191,7 +194,7 @@ class SoapyRemoteTest(unittest.TestCase):
         ns, server_ip, _ = self.namespace()
         emu, sock = start_emulator(self)  # runs once both nodes joined
 
-        env = soapy_env()
+        env = soapy_env(REMOTE_MODULE_DIR)
         env["SERVER_PRELOAD"] = env.pop("LD_PRELOAD", "")  # the server only, not the daemons
         server = subprocess.Popen(["ip", "netns", "exec", ns, "unshare", "-m",
                                    "--propagation", "private", "sh", "-c", SERVER_SCRIPT, "sh",

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -76,8 +77,8 @@ LinkIds read_link(std::string_view tx_field, std::string_view rx_field,
   return {*tx, *rx};
 }
 
-std::size_t slot_of(LinkIds link) {
-  return std::size_t{link.tx} * 256 + link.rx;
+std::uint64_t key_of(LinkIds link) {
+  return (std::uint64_t{link.tx} << 32) | link.rx;
 }
 
 }  // namespace
@@ -87,8 +88,9 @@ Trace parse_csv(std::string_view text, const std::string& name, std::span<const 
   const detail::IdIndex known = detail::index_of_ids(node_ids);
   static const std::vector<std::string_view> kHeader{"t_s", "tx", "rx", "gain_db", "phase_deg"};
   Trace trace;
-  // Which entry of trace.links holds each (tx, rx): -1 until its first row.
-  std::vector<std::int32_t> slot(std::size_t{256} * 256, -1);
+  // Which entry of trace.links holds each (tx, rx), from its first row on. A
+  // map, not a 256 x 256 table: a parse costs what its file holds.
+  std::unordered_map<std::uint64_t, std::size_t> slot;
   const auto row = [&](std::size_t number, const std::vector<std::string_view>& f) {
     const LinkIds link = read_link(f[1], f[2], known, name, number);
     const auto t = detail::parse_number(f[0]);
@@ -103,12 +105,9 @@ Trace parse_csv(std::string_view text, const std::string& name, std::span<const 
     }
     const Sample s{*t, *g, *p};
     if (std::string why = detail::sample_error(s); !why.empty()) fail_at_line(name, number, why);
-    std::int32_t& at = slot[slot_of(link)];
-    if (at < 0) {
-      at = static_cast<std::int32_t>(trace.links.size());
-      trace.links.push_back({link, {}});
-    }
-    std::vector<Sample>& samples = trace.links[static_cast<std::size_t>(at)].samples;
+    const auto [at, first] = slot.try_emplace(key_of(link), trace.links.size());
+    if (first) trace.links.push_back({link, {}});
+    std::vector<Sample>& samples = trace.links[at->second].samples;
     if (!samples.empty() && s.t_s < samples.back().t_s) {
       fail_at_line(name, number,
                    "t_s goes backwards for link " + detail::link_name(link) + " (" +
@@ -127,16 +126,15 @@ std::vector<LinkIds> parse_links_csv(std::string_view text, const std::string& n
   const detail::IdIndex known = detail::index_of_ids(node_ids);
   static const std::vector<std::string_view> kHeader{"tx", "rx"};
   std::vector<LinkIds> links;
-  std::vector<std::size_t> listed_on(std::size_t{256} * 256, 0);  // 0: not yet
+  std::unordered_map<std::uint64_t, std::size_t> listed_on;  // the line of each link
   const auto row = [&](std::size_t number, const std::vector<std::string_view>& f) {
     const LinkIds link = read_link(f[0], f[1], known, name, number);
-    std::size_t& first = listed_on[slot_of(link)];
-    if (first != 0) {
+    const auto [at, first_time] = listed_on.try_emplace(key_of(link), number);
+    if (!first_time) {
       fail_at_line(name, number,
                    "link " + detail::link_name(link) + " is listed twice (first on line " +
-                       std::to_string(first) + ")");
+                       std::to_string(at->second) + ")");
     }
-    first = number;
     links.push_back(link);
   };
   read_table(text, name, kHeader, "tx,rx", "links", row);
