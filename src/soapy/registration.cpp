@@ -157,9 +157,9 @@ SoapySDR::Device* make_rfsitl(const SoapySDR::Kwargs& args) {
     const std::string node = arg(args, "node");
     throw std::runtime_error(
         std::string("rfsitl: ") +
-        (!found.empty()    ? std::to_string(found.size()) + " nodes match; choose one with node=ID"
-         : node.empty()    ? "no emulator node waits for an SDR program"
-                           : "node " + node + " is not a node with phy: {type: external}") +
+        (!found.empty() ? std::to_string(found.size()) + " nodes match; choose one with node=ID"
+         : node.empty() ? "no emulator node waits for an SDR program"
+                        : "node " + node + " is not a node with phy: {type: external}") +
         where);
   }
   const Found& f = found.front();
