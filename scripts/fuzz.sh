@@ -7,7 +7,9 @@
 # Extra libFuzzer flags: FUZZ_FLAGS="-runs=10000000" scripts/fuzz.sh 0
 # (SECONDS 0 = no time limit). To go on after a crash (a campaign):
 # FUZZ_FLAGS="-fork=1 -ignore_crashes=1" (one fuzzing process at a time still).
-# Crash files are kept in build/fuzz/crashes/<target>-crash-*.
+# Logs and crash files go to FUZZ_OUT (default build/fuzz): <target>.log and
+# crashes/<target>-crash-*; a long campaign beside the suite (which runs this
+# script too) takes a folder of its own, e.g. FUZZ_OUT=build/fuzz-campaign.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-10}"
@@ -33,7 +35,8 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 scratch="$(mktemp -d /tmp/rfsitl-fuzz.XXXXXX)"
 trap 'rm -rf "$scratch"' EXIT
-mkdir -p build/fuzz/crashes
+out="${FUZZ_OUT:-build/fuzz}"
+mkdir -p "$out/crashes"
 rows=()
 failed=0
 # Regression first: every crash ever found (fuzz/crashes/<target>/) must now
@@ -42,9 +45,9 @@ for t in "${targets[@]}"; do
   [ -d "fuzz/crashes/$t" ] || continue
   for before_run in 0 1; do
     if ! RFSITL_FUZZ_BEFORE_RUN=$before_run build/fuzz/fuzz/"$t"_fuzzer fuzz/crashes/"$t"/* \
-      >"build/fuzz/$t.regression.log" 2>&1; then
+      >"$out/$t.regression.log" 2>&1; then
       echo "fuzz: $t: a known crash is back (RFSITL_FUZZ_BEFORE_RUN=$before_run);" \
-        "log: build/fuzz/$t.regression.log" >&2
+        "log: $out/$t.regression.log" >&2
       failed=1
     fi
   done
@@ -53,21 +56,21 @@ for t in "${targets[@]}"; do
   corpus="$scratch/$t"
   mkdir -p "$corpus"
   cp fuzz/corpus/"$t"/* "$corpus"/
-  log="build/fuzz/$t.log"
+  log="$out/$t.log"
   limit=()
   [ "$seconds" -gt 0 ] && limit=(-max_total_time="$seconds")
-  before=$(ls build/fuzz/crashes | grep -c "^$t-" || true)
+  before=$(ls "$out/crashes" | grep -c "^$t-" || true)
   start=$(date +%s.%N)
   rc=0
   # shellcheck disable=SC2086  # FUZZ_FLAGS is a list of flags
   build/fuzz/fuzz/"$t"_fuzzer "${limit[@]}" -print_final_stats=1 -timeout=30 \
-    -artifact_prefix="build/fuzz/crashes/$t-" ${FUZZ_FLAGS:-} "$corpus" >"$log" 2>&1 || rc=$?
+    -artifact_prefix="$out/crashes/$t-" ${FUZZ_FLAGS:-} "$corpus" >"$log" 2>&1 || rc=$?
   elapsed=$(echo "$(date +%s.%N) - $start" | bc)
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   if [ -z "$execs" ]; then  # a crash prints no final stats: take the last status line
     execs=$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')
   fi
-  crashes=$(( $(ls build/fuzz/crashes | grep -c "^$t-" || true) - before ))
+  crashes=$(( $(ls "$out/crashes" | grep -c "^$t-" || true) - before ))
   if [ "$rc" -ne 0 ] || [ "$crashes" -gt 0 ]; then
     [ "$crashes" -gt 0 ] || crashes=1
     failed=1
