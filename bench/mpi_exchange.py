@@ -9,8 +9,12 @@ and the same run in one process (K = 0: no mpirun) for the baseline. Then the
 model of bytes and time per tick, extrapolated (see the README section
 "Distributed runs" for its assumptions).
 
+With --realtime the same runs go at speed 1 for `--seconds` of wall time, and
+each row says whether every rank kept real time: the worst lag of any rank
+behind the wall clock, its late ticks, and the lag at the end.
+
     RFSITL_BIN=build/release/apps/rfsitl /usr/bin/python3 bench/mpi_exchange.py \\
-        [--nodes 16,32,64] [--ranks 0,1,2,4] [--seconds 2]
+        [--nodes 16,32,64] [--ranks 0,1,2,4] [--seconds 2] [--realtime]
 """
 
 import argparse
@@ -28,9 +32,9 @@ MPI_FLAGS = ["--oversubscribe", "--allow-run-as-root", "--mca", "btl", "self,vad
              "--bind-to", "none"]
 
 
-def scenario(n, seconds, interval, seed=5):
+def scenario(n, seconds, interval, mode, seed=5):
     rng = random.Random(seed)
-    lines = [f"name: mpi-bench-{n}", "seed: 3", f"time: {{mode: virtual, duration_s: {seconds}}}",
+    lines = [f"name: mpi-bench-{n}", "seed: 3", f"time: {{mode: {mode}, duration_s: {seconds}}}",
              f"nodes: {n}", "traffic:"]
     for src in range(1, n + 1):
         dst = rng.choice([d for d in range(1, n + 1) if d != src])
@@ -39,10 +43,10 @@ def scenario(n, seconds, interval, seed=5):
     return "\n".join(lines) + "\n"
 
 
-def run(d, n, k, seconds, interval, base):
+def run(d, n, k, seconds, interval, mode, base):
     path = os.path.join(d, f"s{n}.yaml")
     with open(path, "w") as f:
-        f.write(scenario(n, seconds, interval))
+        f.write(scenario(n, seconds, interval, mode))
     summary = os.path.join(d, f"n{n}k{k}.json")
     cmd = [BIN, "run", path, "--no-dashboard", "--summary-json", summary,
            "--net-base", str(base), "--loc-base", str(base + 3), "--stats-interval", "0"]
@@ -63,7 +67,12 @@ def main():
     ap.add_argument("--seconds", type=float, default=2.0)
     ap.add_argument("--interval", type=float, default=0.05,
                     help="seconds between a node's frames (0.05: 20 frames/s per node)")
+    ap.add_argument("--realtime", action="store_true",
+                    help="run at speed 1 and report each run's lag behind the wall clock")
     a = ap.parse_args()
+    if a.realtime:
+        realtime(a)
+        return
     if shutil.which("mpirun") is None:
         sys.exit("mpirun not found: apt-get install openmpi-bin libopenmpi-dev (scripts/setup.sh)")
     fs, tick = 1e6, 250  # the defaults
@@ -75,10 +84,10 @@ def main():
     print("|---|---|---|---|---|---|---|")
     rows = []
     with tempfile.TemporaryDirectory() as d:
-        base = 41000
+        base = 21000  # below Linux's ephemeral ports (32768-60999), which mpirun uses
         for n in [int(x) for x in a.nodes.split(",")]:
             for k in [int(x) for x in a.ranks.split(",")]:
-                j = run(d, n, k, a.seconds, a.interval, base)
+                j = run(d, n, k, a.seconds, a.interval, "virtual", base)
                 base += 10 * n + 100
                 per_rank = j.get("distributed", {}).get("per_rank", [])
                 sent = (sum(p["exchanged_bytes"] for p in per_rank) / len(per_rank) / ticks
@@ -103,6 +112,34 @@ def main():
         print(f"  1000 nodes on 16 hosts over {name}: {bytes_tick / 1e3:.0f} kB per rank per tick, "
               f"{1e6 * t:.0f} us per tick in exchanges, against a tick of {1e6 * b / fs:.0f} us at "
               f"1 Msps")
+
+
+def realtime(a):
+    """Real-time runs: does every rank keep up with the wall clock?"""
+    print(f"real time, {a.seconds} s per run, 250-sample ticks at 1 Msps, GMSK, every node one "
+          f"80-byte frame per {a.interval} s to a random node; {os.cpu_count()} cores")
+    print("| N | K | worst lag ms (rank) | late ticks (all ranks) | lag at end ms | delivered | "
+          "real time |")
+    print("|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as d:
+        base = 21000  # below Linux's ephemeral ports (32768-60999), which mpirun uses
+        for n in [int(x) for x in a.nodes.split(",")]:
+            for k in [int(x) for x in a.ranks.split(",")]:
+                j = run(d, n, k, a.seconds, a.interval, "realtime", base)
+                base += 10 * n + 100
+                per_rank = j.get("distributed", {}).get("per_rank", [])
+                if per_rank:
+                    worst, rank = max((p["max_lag_s"], r) for r, p in enumerate(per_rank))
+                    late = sum(p["late_ticks"] for p in per_rank)
+                else:
+                    worst, rank, late = j["max_lag_s"], 0, j.get("late_ticks", 0)
+                end = j["lag_s"]
+                delivered = sum(x["delivered"] for x in j["nodes"])
+                # Real time held: the run ended on the clock (a lag that grew
+                # to the end would show there) and no rank fell a second behind.
+                held = end < 0.05 and worst < 1.0
+                print(f"| {n} | {k or '1 (no mpirun)'} | {1e3 * worst:.1f} ({rank}) | {late} | "
+                      f"{1e3 * end:.1f} | {delivered} | {'yes' if held else 'no'} |", flush=True)
 
 
 if __name__ == "__main__":
