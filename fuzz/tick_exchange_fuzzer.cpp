@@ -89,13 +89,17 @@ void ops(std::span<const std::uint8_t> bytes) {
 void counters(std::span<const std::uint8_t> bytes) {
   RankFigures f;
   std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>> out;
+  std::vector<ObserverShare> shares;
   try {
-    read_counters(bytes, 1, kNodes, f, out);
+    read_counters(bytes, 1, kNodes, f, out, shares);
   } catch (const std::runtime_error& e) {
     check_error(e);
     return;
   }
   for (const auto& [node, c] : out) FUZZ_CHECK(node < kNodes, "node %u", node);
+  std::size_t shared = 0;
+  for (const auto& s : shares) shared += s.key.size() + s.bytes.size();
+  FUZZ_CHECK(shared <= bytes.size(), "%zu bytes of shares from %zu", shared, bytes.size());
 }
 
 }  // namespace

@@ -33,6 +33,7 @@
 #include "rfsitl/io/bind_address.hpp"
 #include "rfsitl/monitor/control_token.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
+#include "rfsitl/monitor/live_view.hpp"
 #include "rfsitl/monitor/json_text.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
 #include "rfsitl/monitor/pcap_trace.hpp"
@@ -497,6 +498,8 @@ int run(const RunOptions& o) {
   // between the two so that they are destroyed in that order.
   std::unique_ptr<LiveSources> sources;
   std::unique_ptr<monitor::Dashboard> dashboard;
+  // The other ranks' side of rank 0's dashboard: what their nodes showed.
+  std::unique_ptr<monitor::LiveView> rank_view;
   std::string drawn_token_url;
   // A distributed run's ranks each trace their own nodes, into files of their own.
   const std::string pcap_path =
@@ -546,6 +549,9 @@ int run(const RunOptions& o) {
       ds.sources = sources->status_fn();
       dashboard = monitor::start_dashboard(ds, s, *engine);
       if (token_drawn) drawn_token_url = dashboard->url() + "?token=" + control_token;
+    } else if (!o.no_dashboard && ranks.distributed()) {
+      rank_view = std::make_unique<monitor::LiveView>(engine->node_ids());
+      engine->add_observer(*rank_view);
     }
     // Last: a frame an agent hands in reaches every observer (the traces, the
     // dashboard's live view) from the net ports' thread, so all of them are

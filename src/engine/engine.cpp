@@ -704,9 +704,13 @@ class LockStepEngine final : public Engine {
                            link_->wall_s(), clock_.elapsed_wall_s()};
     std::vector<RankFigures> figures;
     std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>> all;
-    link_->exchange_counters(mine, own, figures, all);
+    std::vector<std::vector<ObserverShare>> shares;
+    link_->exchange_counters(mine, own, reporter_.shares(), figures, all, shares);
     for (const auto& [node, snapshot] : all) {
       if (!owned_[node]) counters_[node].assign(snapshot);
+    }
+    for (std::size_t r = 0; r < shares.size(); ++r) {
+      if (r != link_->rank()) reporter_.take_shares(r, shares[r]);
     }
     std::vector<RankStatus> ranks;
     for (const RankFigures& f : figures) {

@@ -66,6 +66,23 @@ std::optional<double> EventReporter::snr_db(std::size_t tx, std::optional<std::s
   return 10.0 * std::log10(gain / noise);
 }
 
+std::vector<ObserverShare> EventReporter::shares() const {
+  std::vector<ObserverShare> out;
+  for (EngineObserver* o : observers_) {
+    if (!o->share_key().empty()) out.push_back({std::string(o->share_key()), o->share()});
+  }
+  return out;
+}
+
+void EventReporter::take_shares(std::size_t rank, std::span<const ObserverShare> shares) const {
+  for (EngineObserver* o : observers_) {
+    if (o->share_key().empty()) continue;
+    for (const ObserverShare& s : shares) {
+      if (s.key == o->share_key()) o->take_share(rank, s.bytes);
+    }
+  }
+}
+
 void EventReporter::emit(const FrameEvent& e) const {
   for (EngineObserver* o : observers_) o->on_frame_event(e);
 }

@@ -10,6 +10,7 @@
 #include "rfsitl/engine/engine_observer.hpp"
 #include "rfsitl/engine/frame_ledger.hpp"
 #include "rfsitl/scenario/scenario.hpp"
+#include "tick_exchange.hpp"
 
 namespace rfsitl::engine {
 
@@ -41,6 +42,11 @@ class EventReporter {
 
   // Worker threads.
   void decoded(std::size_t node, SampleTime t, const phy::RxEvent& ev) const;
+
+  // Engine thread, distributed runs: what the observers share with the other
+  // ranks' (EngineObserver::share_key), and what they shared.
+  std::vector<ObserverShare> shares() const;
+  void take_shares(std::size_t rank, std::span<const ObserverShare> shares) const;
 
  private:
   FrameEvent make(FrameEventKind kind, std::size_t sender, NodeId src, NodeId dst,

@@ -49,14 +49,16 @@ void RankLink::exchange_ops(std::vector<LedgerOp>& ops) {
 
 void RankLink::exchange_counters(
     const RankFigures& mine, std::span<const std::pair<std::uint32_t, NodeCountersSnapshot>> own,
-    std::vector<RankFigures>& figures,
-    std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& all) {
-  write_counters(mine, own, out_);
+    std::span<const ObserverShare> my_shares, std::vector<RankFigures>& figures,
+    std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& all,
+    std::vector<std::vector<ObserverShare>>& shares) {
+  write_counters(mine, own, my_shares, out_);
   gather(out_);
   figures.assign(in_.ranks(), RankFigures{});
+  shares.assign(in_.ranks(), {});
   all.clear();
   for (std::size_t r = 0; r < in_.ranks(); ++r)
-    read_counters(in_.of(r), r, nodes_, figures[r], all);
+    read_counters(in_.of(r), r, nodes_, figures[r], all, shares[r]);
 }
 
 void RankLink::barrier() {

@@ -28,11 +28,14 @@ class RankLink {
   /// node order (a node's ops in the order its owner made them).
   void exchange_ops(std::vector<LedgerOp>& ops);
 
-  /// Collective: every rank's figures (by rank) and its nodes' counters.
+  /// Collective: every rank's figures and observer shares (by rank) and its
+  /// nodes' counters.
   void exchange_counters(const RankFigures& mine,
                          std::span<const std::pair<std::uint32_t, NodeCountersSnapshot>> own,
+                         std::span<const ObserverShare> my_shares,
                          std::vector<RankFigures>& figures,
-                         std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& all);
+                         std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& all,
+                         std::vector<std::vector<ObserverShare>>& shares);
 
   /// Collective: returns when every rank has called it.
   void barrier();

@@ -227,7 +227,7 @@ void read_ledger_ops(std::span<const std::uint8_t> bytes, std::size_t rank, std:
 
 void write_counters(const RankFigures& figures,
                     std::span<const std::pair<std::uint32_t, NodeCountersSnapshot>> nodes,
-                    std::vector<std::uint8_t>& out) {
+                    std::span<const ObserverShare> shares, std::vector<std::uint8_t>& out) {
   static_assert(std::is_trivially_copyable_v<NodeCountersSnapshot>);
   Writer w(out);
   w.put(figures.max_lag_s);
@@ -240,11 +240,19 @@ void write_counters(const RankFigures& figures,
     w.put(node);
     w.bytes(&counters, sizeof counters);
   }
+  w.put(static_cast<std::uint32_t>(shares.size()));
+  for (const ObserverShare& share : shares) {
+    w.put(static_cast<std::uint32_t>(share.key.size()));
+    w.bytes(share.key.data(), share.key.size());
+    w.put(static_cast<std::uint32_t>(share.bytes.size()));
+    w.bytes(share.bytes.data(), share.bytes.size());
+  }
 }
 
 void read_counters(std::span<const std::uint8_t> bytes, std::size_t rank, std::size_t nodes,
                    RankFigures& figures,
-                   std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& out) {
+                   std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& out,
+                   std::vector<ObserverShare>& shares) {
   Reader r(bytes, rank, "counters");
   figures.max_lag_s = r.get<double>();
   figures.late_ticks = r.get<std::uint64_t>();
@@ -257,6 +265,17 @@ void read_counters(std::span<const std::uint8_t> bytes, std::size_t rank, std::s
     NodeCountersSnapshot c;
     std::memcpy(&c, bytes.data() + r.skip(sizeof c), sizeof c);
     out.emplace_back(node, c);
+  }
+  const std::uint32_t k = r.count(8);  // two lengths each
+  for (std::uint32_t i = 0; i < k; ++i) {
+    ObserverShare share;
+    const std::uint32_t key_size = r.count(1);
+    const auto* key = bytes.data() + r.skip(key_size);
+    share.key.assign(reinterpret_cast<const char*>(key), key_size);
+    const std::uint32_t size = r.count(1);
+    const auto* data = bytes.data() + r.skip(size);
+    share.bytes.assign(data, data + size);
+    shares.push_back(std::move(share));
   }
   r.done();
 }

@@ -98,12 +98,20 @@ struct RankFigures {
   double wall_s = 0.0;
 };
 
-/// The counters of a rank's own nodes, and its figures.
+/// What one of a rank's observers shares (EngineObserver::share), by its key.
+struct ObserverShare {
+  std::string key;
+  std::vector<std::uint8_t> bytes;
+};
+
+/// The counters of a rank's own nodes, its figures and its observers' shares.
 void write_counters(const RankFigures& figures,
                     std::span<const std::pair<std::uint32_t, NodeCountersSnapshot>> nodes,
-                    std::vector<std::uint8_t>& out);
+                    std::span<const ObserverShare> shares, std::vector<std::uint8_t>& out);
+/// Appends the nodes' counters to `out` and the shares to `shares`.
 void read_counters(std::span<const std::uint8_t> bytes, std::size_t rank, std::size_t nodes,
                    RankFigures& figures,
-                   std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& out);
+                   std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>>& out,
+                   std::vector<ObserverShare>& shares);
 
 }  // namespace rfsitl::engine

@@ -1,6 +1,9 @@
 #include "rfsitl/monitor/live_view.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+
+#include "rfsitl/monitor/live_view_share.hpp"
 
 namespace rfsitl::monitor {
 
@@ -11,10 +14,16 @@ LiveView::LiveView(std::vector<NodeId> ids)
       averagers_(n_),
       published_(n_),
       next_time_(n_, -1),
-      constellations_(n_) {
+      constellations_(n_),
+      shared_until_(n_, -1),
+      remote_watchers_(new std::atomic<int>[n_]) {
   links_.received.assign(n_ * n_, 0);
   links_.lost.assign(n_ * n_, 0);
-  for (std::size_t i = 0; i < n_; ++i) watchers_[i].store(0);
+  shared_links_ = links_;
+  for (std::size_t i = 0; i < n_; ++i) {
+    watchers_[i].store(0);
+    remote_watchers_[i].store(0);
+  }
 }
 
 std::optional<std::size_t> LiveView::index_of(NodeId id) const {
@@ -38,12 +47,22 @@ void LiveView::on_frame_event(const engine::FrameEvent& e) {
 
 LiveView::LinkOutcomes LiveView::link_outcomes() const {
   std::lock_guard lock(links_mutex_);
-  return links_;
+  LinkOutcomes sum = links_;
+  for (const LinkOutcomes& r : remote_links_) {
+    for (std::size_t k = 0; k < r.received.size(); ++k) {
+      sum.received[k] += r.received[k];
+      sum.lost[k] += r.lost[k];
+    }
+  }
+  return sum;
 }
 
 bool LiveView::wants_samples(std::size_t node, SampleTime tick_start,
                              std::size_t tick_samples) const {
-  if (node >= n_ || watchers_[node].load(std::memory_order_relaxed) <= 0) return false;
+  if (node >= n_ || (watchers_[node].load(std::memory_order_relaxed) <= 0 &&
+                     remote_watchers_[node].load(std::memory_order_relaxed) <= 0)) {
+    return false;
+  }
   const auto tick = static_cast<std::size_t>(tick_start) / std::max<std::size_t>(tick_samples, 1);
   return tick % kSpectrumTickPeriod < kSpectrumTicksTaken;
 }
@@ -86,6 +105,87 @@ void LiveView::on_decode(std::size_t node, SampleTime time, const phy::RxEvent& 
 std::optional<Constellation> LiveView::constellation(std::size_t node) const {
   std::lock_guard lock(constellation_mutex_);
   return node < n_ ? constellations_[node] : std::nullopt;
+}
+
+std::vector<std::uint8_t> LiveView::share() {
+  LiveViewShare out;
+  for (std::size_t i = 0; i < n_; ++i) {
+    if (watchers_[i].load(std::memory_order_relaxed) > 0) {
+      out.watched.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  {
+    // The cells that changed since the last share (their totals).
+    std::lock_guard lock(links_mutex_);
+    for (std::size_t k = 0; k < links_.received.size(); ++k) {
+      if (links_.received[k] != shared_links_.received[k] ||
+          links_.lost[k] != shared_links_.lost[k]) {
+        out.links.push_back({static_cast<std::uint32_t>(k), links_.received[k], links_.lost[k]});
+        shared_links_.received[k] = links_.received[k];
+        shared_links_.lost[k] = links_.lost[k];
+      }
+    }
+  }
+  {
+    // A node watched on another rank only: its averages are taken here (the
+    // dashboard takes those of the nodes its own viewers watch).
+    std::lock_guard lock(spectra_mutex_);
+    for (std::size_t i = 0; i < n_; ++i) {
+      if (remote_watchers_[i].load(std::memory_order_relaxed) <= 0 || !averagers_[i]) continue;
+      if (averagers_[i]->blocks() > 0) published_[i] = averagers_[i]->take_db();
+      if (!published_[i].empty()) {
+        out.spectra.push_back({static_cast<std::uint32_t>(i), published_[i]});
+      }
+    }
+  }
+  {
+    std::lock_guard lock(constellation_mutex_);
+    for (std::size_t i = 0; i < n_; ++i) {
+      const auto& c = constellations_[i];
+      if (!c || c->time <= shared_until_[i]) continue;
+      shared_until_[i] = c->time;
+      out.constellations.emplace_back(static_cast<std::uint32_t>(i), *c);
+    }
+  }
+  return encode_share(out);
+}
+
+void LiveView::take_share(std::size_t rank, std::span<const std::uint8_t> bytes) {
+  LiveViewShare in;
+  try {
+    in = decode_share(bytes, n_);
+  } catch (const std::invalid_argument&) {
+    bad_shares_.fetch_add(1);
+    return;
+  }
+  // The ranks that watch each node.
+  if (remote_watched_.size() <= rank) remote_watched_.resize(rank + 1);
+  for (const std::uint32_t node : remote_watched_[rank]) remote_watchers_[node].fetch_sub(1);
+  remote_watched_[rank] = in.watched;
+  for (const std::uint32_t node : remote_watched_[rank]) remote_watchers_[node].fetch_add(1);
+  {
+    std::lock_guard lock(links_mutex_);
+    if (remote_links_.size() <= rank) remote_links_.resize(rank + 1);
+    LinkOutcomes& r = remote_links_[rank];
+    if (r.received.empty()) {
+      r.received.assign(n_ * n_, 0);
+      r.lost.assign(n_ * n_, 0);
+    }
+    for (const auto& c : in.links) {  // totals of the cells that changed
+      r.received[c.cell] = c.received;
+      r.lost[c.cell] = c.lost;
+    }
+  }
+  {
+    std::lock_guard lock(spectra_mutex_);
+    for (auto& sp : in.spectra) published_[sp.node] = std::move(sp.db);
+  }
+  std::lock_guard lock(constellation_mutex_);
+  for (auto& [node, c] : in.constellations) {
+    if (!constellations_[node] || constellations_[node]->time < c.time) {
+      constellations_[node] = std::move(c);
+    }
+  }
 }
 
 }  // namespace rfsitl::monitor

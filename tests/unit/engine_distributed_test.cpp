@@ -11,6 +11,7 @@
 #include "engine_run.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/cluster/node_assignment.hpp"
+#include "rfsitl/monitor/live_view.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
 #include "thread_peers.hpp"
@@ -145,6 +146,34 @@ TEST(EngineDistributed, RanksGiveTheCountersOfOneProcess) {
   EXPECT_GT(collided, 5U);
   EXPECT_GT(received, delivered);  // broadcasts reach several
   for (const std::size_t k : {1U, 2U, 3U}) expect_same_as_one_process(one, run_ranks(s, k));
+}
+
+TEST(EngineDistributed, RankZerosLiveViewShowsTheLinksOfEveryRankAsOneProcessWould) {
+  // The dashboard's link outcomes: a live view on every rank, which share
+  // what they saw; rank 0's then holds what one process's does.
+  const scenario::Scenario s = busy_swarm("none");
+  std::vector<NodeId> ids;
+  for (const auto& n : s.nodes) ids.push_back(n.id);
+  monitor::LiveView alone(ids);
+  RunSetup setup;
+  setup.observers = {&alone};
+  run_engine(s, setup);
+  const auto want = alone.link_outcomes();
+  std::uint32_t links_seen = 0;
+  for (std::size_t k = 0; k < want.received.size(); ++k) {
+    links_seen += (want.received[k] > 0 ? 1 : 0) + (want.lost[k] > 0 ? 1 : 0);
+  }
+  EXPECT_GT(links_seen, 6U);
+  for (const std::size_t k : {2U, 3U}) {
+    SCOPED_TRACE(std::to_string(k) + " ranks");
+    std::vector<std::unique_ptr<monitor::LiveView>> views;
+    for (std::size_t r = 0; r < k; ++r) views.push_back(std::make_unique<monitor::LiveView>(ids));
+    run_ranks(s, k, [&](std::size_t r, engine::Engine& e) { e.add_observer(*views[r]); });
+    const auto got = views[0]->link_outcomes();
+    EXPECT_EQ(got.received, want.received);
+    EXPECT_EQ(got.lost, want.lost);
+    EXPECT_EQ(views[0]->bad_shares(), 0U);
+  }
 }
 
 TEST(EngineDistributed, RanksGiveTheCountersOfOneProcessWithCsma) {

@@ -137,15 +137,32 @@ TEST(TickExchange, LedgerOpsAndCountersRoundTrip) {
   c.lost[2] = 3;
   c.mac.retries = 4;
   const std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>> own{{1, c}};
-  write_counters(RankFigures{0.5, 2, 1000, 0.25, 3.0}, own, bytes);
+  const std::vector<ObserverShare> shares{{"live_view", {1, 2, 3}}, {"empty", {}}};
+  write_counters(RankFigures{0.5, 2, 1000, 0.25, 3.0}, own, shares, bytes);
   RankFigures f;
   std::vector<std::pair<std::uint32_t, NodeCountersSnapshot>> all;
-  read_counters(bytes, 0, 4, f, all);
+  std::vector<ObserverShare> got;
+  read_counters(bytes, 0, 4, f, all, got);
   EXPECT_EQ(f.exchanged_bytes, 1000U);
   EXPECT_EQ(f.max_lag_s, 0.5);
   ASSERT_EQ(all.size(), 1U);
   EXPECT_EQ(all[0].second.lost[2], 3U);
   EXPECT_EQ(all[0].second.mac.retries, 4U);
+  ASSERT_EQ(got.size(), 2U);
+  EXPECT_EQ(got[0].key, "live_view");
+  EXPECT_EQ(got[0].bytes, (std::vector<std::uint8_t>{1, 2, 3}));
+  EXPECT_EQ(got[1].key, "empty");
+  EXPECT_TRUE(got[1].bytes.empty());
+  // A share longer than what is left, and a byte cut off the end: refused.
+  std::vector<std::uint8_t> lying = bytes;
+  lying[lying.size() - 4] = 200;  // the last share's length
+  got.clear();
+  all.clear();
+  EXPECT_THROW(read_counters(lying, 0, 4, f, all, got), std::runtime_error);
+  bytes.pop_back();
+  got.clear();
+  all.clear();
+  EXPECT_THROW(read_counters(bytes, 0, 4, f, all, got), std::runtime_error);
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 #pragma once
 /// What the engine shows to traces, recordings and the dashboard. Observers
 /// are called synchronously; each call must be quick (copy and hand off).
+#include <cstdint>
 #include <span>
+#include <string_view>
+#include <vector>
 
 #include "rfsitl/common/types.hpp"
 #include "rfsitl/engine/frame_event.hpp"
@@ -41,6 +44,18 @@ class EngineObserver {
   /// constellation (valid during the call only).
   virtual void on_decode(std::size_t /*node*/, SampleTime /*time*/, const phy::RxEvent& /*event*/) {
   }
+
+  /// Distributed runs: an observer that shows every rank's nodes (the
+  /// dashboard's live view, on rank 0) sees only its own rank's events and
+  /// samples; observers with the same non-empty share_key() on every rank
+  /// swap what they saw. Engine thread, with the node counters (every 0.1 s
+  /// of virtual time and at the end): share() is this rank's part, and
+  /// take_share() gets each other rank's (`rank`), which replaces what that
+  /// rank shared before. The bytes are the observer's own format; a reader
+  /// must check them (a short or inconsistent share is dropped, not trusted).
+  virtual std::string_view share_key() const { return {}; }
+  virtual std::vector<std::uint8_t> share() { return {}; }
+  virtual void take_share(std::size_t /*rank*/, std::span<const std::uint8_t> /*bytes*/) {}
 };
 
 }  // namespace rfsitl::engine

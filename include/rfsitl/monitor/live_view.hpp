@@ -7,6 +7,8 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
+#include <string_view>
 #include <vector>
 
 #include "rfsitl/engine/engine_observer.hpp"
@@ -58,6 +60,18 @@ class LiveView final : public engine::EngineObserver {
 
   std::optional<Constellation> constellation(std::size_t node) const;
 
+  /// Distributed runs (EngineObserver::share): the live views of every rank
+  /// swap what they saw, so that rank 0's dashboard shows every rank's nodes:
+  /// link outcomes (each cell is counted on one rank only: the receiver's for
+  /// decodes, the sender's for losses), the constellations of new decodes and,
+  /// for a node watched on another rank, its spectrum (the watching rank's
+  /// share names the node; the owner's receiver then keeps its samples).
+  std::string_view share_key() const override { return "live_view"; }
+  std::vector<std::uint8_t> share() override;
+  void take_share(std::size_t rank, std::span<const std::uint8_t> bytes) override;
+  /// Shares from other ranks that were dropped as malformed.
+  std::uint64_t bad_shares() const { return bad_shares_.load(); }
+
  private:
   std::optional<std::size_t> index_of(NodeId id) const;
 
@@ -72,6 +86,14 @@ class LiveView final : public engine::EngineObserver {
   std::vector<SampleTime> next_time_;  // where each node's samples continue
   mutable std::mutex constellation_mutex_;
   std::vector<std::optional<Constellation>> constellations_;
+  std::vector<SampleTime> shared_until_;  // the newest constellation shared, per node
+  LinkOutcomes shared_links_;             // links_ as last shared (under links_mutex_)
+  // What other ranks shared (engine thread writes; the link sums are read by
+  // the dashboard's thread under links_mutex_).
+  std::vector<LinkOutcomes> remote_links_;           // by rank
+  std::vector<std::vector<std::uint32_t>> remote_watched_;  // by rank
+  std::unique_ptr<std::atomic<int>[]> remote_watchers_;     // ranks watching each node
+  std::atomic<std::uint64_t> bad_shares_{0};
 };
 
 }  // namespace rfsitl::monitor
