@@ -13,6 +13,7 @@ import glob
 import json
 import os
 import random
+import re
 import shutil
 import signal
 import subprocess
@@ -307,6 +308,83 @@ class MpiIpTest(unittest.TestCase):
             self.assertGreater(n["delivered"], 0, n)
         for rank in j["distributed"]["per_rank"]:
             self.assertGreater(rank["wall_s"], 0)
+
+
+DASHBOARD_SCENARIO = """name: mpi-dashboard-test
+time: {mode: realtime}
+nodes:
+  - {id: 1, position: {x: 0, y: 0, z: 10}}
+  - {id: 2, position: {x: 10, y: 0, z: 10}}
+  - {id: 3, position: {x: 0, y: 10, z: 10}}
+  - {id: 4, position: {x: 10, y: 10, z: 10}}
+traffic:
+  - {at_s: 0.02, src: 1, dst: 2, size_bytes: 60, repeat: 100000, interval_s: 0.05}
+  - {at_s: 0.03, src: 4, dst: 3, size_bytes: 60, repeat: 100000, interval_s: 0.05}
+"""
+
+
+@unittest.skipIf(MPIRUN is None, "Open MPI's mpirun is not installed (scripts/setup.sh)")
+class MpiDashboardTest(unittest.TestCase):
+    def test_rank_zero_s_dashboard_shows_the_nodes_of_every_rank(self):
+        # Node 2 is rank 1's, and so are its decodes of node 1's frames: rank
+        # 0's dashboard shows them (link counts, constellation, spectrum) from
+        # what rank 1's live view shares.
+        from test_all_faces_at_once import WebSocketViewer
+        with tempfile.TemporaryDirectory() as d:
+            net_base, loc_base = pick_port_bases({i: None for i in range(1, 5)})
+            log = open(os.path.join(d, "out.log"), "w+")
+            self.addCleanup(log.close)
+            proc = subprocess.Popen(
+                [MPIRUN, "-n", "2", *MPI_FLAGS, BIN, "run", write(d, DASHBOARD_SCENARIO),
+                 "--net-base", str(net_base), "--loc-base", str(loc_base),
+                 "--dashboard-port", "0", *LOAD_TOLERANT],
+                stdout=log, stderr=subprocess.STDOUT, text=True, env=MPI_ENV)
+
+            def output():
+                log.flush()
+                with open(log.name) as f:
+                    return f.read()
+
+            def stop():
+                if proc.poll() is None:
+                    proc.send_signal(signal.SIGTERM)
+                    try:
+                        proc.wait(60)
+                    except subprocess.TimeoutExpired:
+                        proc.kill()
+                        proc.wait()
+            self.addCleanup(stop)
+            deadline = time.monotonic() + 120
+            while "rfsitl: ready" not in output():
+                self.assertIsNone(proc.poll(), output()[-3000:])
+                self.assertLess(time.monotonic(), deadline, output()[-3000:])
+                time.sleep(0.1)
+            text = output()
+            self.assertIn("rank 1: node(s) 2 4", text)
+            port = int(re.search(r"rfsitl: dashboard http://[^/]*:(\d+)/", text).group(1))
+            viewer = WebSocketViewer(port)
+            self.addCleanup(viewer.close)
+            viewer.send({"type": "watch", "node": 2})
+
+            def links_to_2():
+                snaps = viewer.of_type("snapshot")
+                if not snaps:
+                    return 0
+                links = snaps[-1]["links"]
+                return links["received"][0 * links["n"] + 1]  # node 1 -> node 2
+
+            deadline = time.monotonic() + 3 * ARRIVAL_S
+            while not (links_to_2() > 0 and viewer.of_type("spectrum")
+                       and any(m["node"] == 2 for m in viewer.of_type("constellation"))):
+                self.assertLess(time.monotonic(), deadline,
+                                f"links to node 2 {links_to_2()}, "
+                                f"{len(viewer.of_type('spectrum'))} spectra, constellations of "
+                                f"{[m['node'] for m in viewer.of_type('constellation')]}")
+                time.sleep(0.1)
+            spectrum = viewer.of_type("spectrum")[-1]
+            self.assertEqual(spectrum["node"], 2)
+            stop()
+        self.assertGreater(links_to_2(), 0)
 
 
 if __name__ == "__main__":
