@@ -122,7 +122,8 @@ TEST_F(TwoRanks, ANodeWatchedOnRankZeroIsComputedAndItsSpectrumSentByItsOwner) {
   // A tone at fs/8 in the owner's receiver.
   std::vector<cf32> tone(2048);
   for (std::size_t n = 0; n < tone.size(); ++n) {
-    tone[n] = std::polar(1.0F, static_cast<float>(2.0 * std::numbers::pi * static_cast<double>(n) / 8.0));
+    tone[n] =
+        std::polar(1.0F, static_cast<float>(2.0 * std::numbers::pi * static_cast<double>(n) / 8.0));
   }
   rank1.on_rx_samples(2, 0, tone);
   swap();

@@ -90,7 +90,7 @@ class LiveView final : public engine::EngineObserver {
   LinkOutcomes shared_links_;             // links_ as last shared (under links_mutex_)
   // What other ranks shared (engine thread writes; the link sums are read by
   // the dashboard's thread under links_mutex_).
-  std::vector<LinkOutcomes> remote_links_;           // by rank
+  std::vector<LinkOutcomes> remote_links_;                  // by rank
   std::vector<std::vector<std::uint32_t>> remote_watched_;  // by rank
   std::unique_ptr<std::atomic<int>[]> remote_watchers_;     // ranks watching each node
   std::atomic<std::uint64_t> bad_shares_{0};
