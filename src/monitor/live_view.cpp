@@ -115,11 +115,15 @@ std::vector<std::uint8_t> LiveView::share() {
     }
   }
   {
-    // The cells that changed since the last share (their totals).
+    // The totals of the cells that changed since the last share, and every
+    // tenth time of all that are not zero (so that a share a peer dropped
+    // does not leave it behind for good).
     std::lock_guard lock(links_mutex_);
+    const bool all = ++shares_ % 10 == 0;
     for (std::size_t k = 0; k < links_.received.size(); ++k) {
       if (links_.received[k] != shared_links_.received[k] ||
-          links_.lost[k] != shared_links_.lost[k]) {
+          links_.lost[k] != shared_links_.lost[k] ||
+          (all && (links_.received[k] != 0 || links_.lost[k] != 0))) {
         out.links.push_back({static_cast<std::uint32_t>(k), links_.received[k], links_.lost[k]});
         shared_links_.received[k] = links_.received[k];
         shared_links_.lost[k] = links_.lost[k];
@@ -139,9 +143,11 @@ std::vector<std::uint8_t> LiveView::share() {
     }
   }
   {
+    // Those of nodes watched on another rank (a viewer shows its node's only).
     std::lock_guard lock(constellation_mutex_);
     for (std::size_t i = 0; i < n_; ++i) {
       const auto& c = constellations_[i];
+      if (remote_watchers_[i].load(std::memory_order_relaxed) <= 0) continue;
       if (!c || c->time <= shared_until_[i]) continue;
       shared_until_[i] = c->time;
       out.constellations.emplace_back(static_cast<std::uint32_t>(i), *c);
@@ -162,7 +168,13 @@ void LiveView::take_share(std::size_t rank, std::span<const std::uint8_t> bytes)
   if (remote_watched_.size() <= rank) remote_watched_.resize(rank + 1);
   for (const std::uint32_t node : remote_watched_[rank]) remote_watchers_[node].fetch_sub(1);
   remote_watched_[rank] = in.watched;
-  for (const std::uint32_t node : remote_watched_[rank]) remote_watchers_[node].fetch_add(1);
+  for (const std::uint32_t node : remote_watched_[rank]) {
+    // Newly watched: its latest constellation goes out again with the next share.
+    if (remote_watchers_[node].fetch_add(1) == 0) {
+      std::lock_guard lock(constellation_mutex_);
+      shared_until_[node] = -1;
+    }
+  }
   {
     std::lock_guard lock(links_mutex_);
     if (remote_links_.size() <= rank) remote_links_.resize(rank + 1);

@@ -107,6 +107,10 @@ TEST_F(TwoRanks, LinkOutcomesOfBothRanksAddUpOnEachWithoutCountingTwice) {
   ASSERT_EQ(again.links.size(), 1U);  // only the cell that changed
   rank0.take_share(1, encode_share(again));
   swap();
+  // Every tenth share carries every cell that is not zero.
+  std::size_t most = 0;
+  for (int k = 0; k < 10; ++k) most = std::max(most, decode_share(rank1.share(), 3).links.size());
+  EXPECT_EQ(most, 2U);
   o = rank0.link_outcomes();
   EXPECT_EQ(o.received[0 * 3 + 2], 2U);
   EXPECT_EQ(o.lost[2 * 3 + 0], 1U);
@@ -137,7 +141,9 @@ TEST_F(TwoRanks, ANodeWatchedOnRankZeroIsComputedAndItsSpectrumSentByItsOwner) {
   EXPECT_FALSE(rank1.wants_samples(2, 0, 250));
 }
 
-TEST_F(TwoRanks, ConstellationsOfNewDecodesReachRankZeroAndAnOlderOneDoesNotReplace) {
+TEST_F(TwoRanks, ConstellationsOfAWatchedNodeReachRankZeroAndAnOlderOneDoesNotReplace) {
+  rank0.watch(1, +1);
+  swap();
   phy::RxEvent ev;
   ev.tag = phy::FrameTag{4, 7, 0x00000011};
   ev.header_valid = true;
@@ -151,8 +157,11 @@ TEST_F(TwoRanks, ConstellationsOfNewDecodesReachRankZeroAndAnOlderOneDoesNotRepl
   EXPECT_EQ(c->serial, 0x00000011U);
   EXPECT_EQ(c->points.size(), 40U);
   EXPECT_EQ(c->time, 900);
-  // Nothing new: nothing sent. An older decode shared late does not win.
+  // Nothing new: nothing sent; nor for a node nobody watches elsewhere.
   EXPECT_TRUE(decode_share(rank1.share(), 3).constellations.empty());
+  rank1.on_decode(2, 950, ev);
+  EXPECT_TRUE(decode_share(rank1.share(), 3).constellations.empty());
+  // An older decode shared late does not win.
   LiveViewShare old;
   old.constellations.emplace_back(1, Constellation{100, 4, 7, 0x00000001, true, {}});
   rank0.take_share(1, encode_share(old));

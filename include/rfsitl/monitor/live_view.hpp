@@ -63,9 +63,10 @@ class LiveView final : public engine::EngineObserver {
   /// Distributed runs (EngineObserver::share): the live views of every rank
   /// swap what they saw, so that rank 0's dashboard shows every rank's nodes:
   /// link outcomes (each cell is counted on one rank only: the receiver's for
-  /// decodes, the sender's for losses), the constellations of new decodes and,
-  /// for a node watched on another rank, its spectrum (the watching rank's
-  /// share names the node; the owner's receiver then keeps its samples).
+  /// decodes, the sender's for losses; the cells that changed, and every tenth
+  /// share all of them) and, for a node watched on another rank, its new
+  /// constellations and its spectrum (the watching rank's share names the
+  /// node; the owner's receiver then keeps its samples).
   std::string_view share_key() const override { return "live_view"; }
   std::vector<std::uint8_t> share() override;
   void take_share(std::size_t rank, std::span<const std::uint8_t> bytes) override;
@@ -88,6 +89,7 @@ class LiveView final : public engine::EngineObserver {
   std::vector<std::optional<Constellation>> constellations_;
   std::vector<SampleTime> shared_until_;  // the newest constellation shared, per node
   LinkOutcomes shared_links_;             // links_ as last shared (under links_mutex_)
+  std::uint64_t shares_ = 0;              // share() calls
   // What other ranks shared (engine thread writes; the link sums are read by
   // the dashboard's thread under links_mutex_).
   std::vector<LinkOutcomes> remote_links_;                  // by rank
