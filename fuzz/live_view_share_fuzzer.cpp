@@ -58,7 +58,8 @@ bool same(const LiveViewShare& a, const LiveViewShare& b) {
     if (na != nb || ca.time != cb.time || ca.src != cb.src || ca.dst != cb.dst ||
         ca.serial != cb.serial || ca.payload_valid != cb.payload_valid ||
         ca.points.size() != cb.points.size() ||
-        std::memcmp(ca.points.data(), cb.points.data(), ca.points.size() * sizeof(ca.points[0])))
+        (!ca.points.empty() &&  // memcmp of no points would take null pointers
+         std::memcmp(ca.points.data(), cb.points.data(), ca.points.size() * sizeof(ca.points[0]))))
       return false;
   }
   return true;

@@ -166,15 +166,22 @@ void LiveView::take_share(std::size_t rank, std::span<const std::uint8_t> bytes)
   }
   // The ranks that watch each node.
   if (remote_watched_.size() <= rank) remote_watched_.resize(rank + 1);
-  for (const std::uint32_t node : remote_watched_[rank]) remote_watchers_[node].fetch_sub(1);
-  remote_watched_[rank] = in.watched;
-  for (const std::uint32_t node : remote_watched_[rank]) {
+  std::vector<std::uint32_t>& before = remote_watched_[rank];
+  const auto in_list = [](const std::vector<std::uint32_t>& list, std::uint32_t node) {
+    return std::find(list.begin(), list.end(), node) != list.end();
+  };
+  for (const std::uint32_t node : before) {
+    if (!in_list(in.watched, node)) remote_watchers_[node].fetch_sub(1);
+  }
+  for (const std::uint32_t node : in.watched) {
+    if (in_list(before, node)) continue;
     // Newly watched: its latest constellation goes out again with the next share.
     if (remote_watchers_[node].fetch_add(1) == 0) {
       std::lock_guard lock(constellation_mutex_);
       shared_until_[node] = -1;
     }
   }
+  before = std::move(in.watched);
   {
     std::lock_guard lock(links_mutex_);
     if (remote_links_.size() <= rank) remote_links_.resize(rank + 1);
