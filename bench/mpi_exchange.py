@@ -60,6 +60,17 @@ def run(d, n, k, seconds, interval, mode, base):
     return j
 
 
+def runs(a, mode):
+    """Every (N, K) of the arguments in turn: yields (n, k, summary, per_rank)."""
+    with tempfile.TemporaryDirectory() as d:
+        base = 21000  # below Linux's ephemeral ports (32768-60999), which mpirun uses
+        for n in [int(x) for x in a.nodes.split(",")]:
+            for k in [int(x) for x in a.ranks.split(",")]:
+                j = run(d, n, k, a.seconds, a.interval, mode, base)
+                base += 10 * n + 100
+                yield n, k, j, j.get("distributed", {}).get("per_rank", [])
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--nodes", default="16,32,64")
@@ -82,23 +93,15 @@ def main():
     print("| N | K | engine wall s | ms per tick | B sent per tick per rank (mean) | in exchanges | "
           "delivered |")
     print("|---|---|---|---|---|---|---|")
-    rows = []
-    with tempfile.TemporaryDirectory() as d:
-        base = 21000  # below Linux's ephemeral ports (32768-60999), which mpirun uses
-        for n in [int(x) for x in a.nodes.split(",")]:
-            for k in [int(x) for x in a.ranks.split(",")]:
-                j = run(d, n, k, a.seconds, a.interval, "virtual", base)
-                base += 10 * n + 100
-                per_rank = j.get("distributed", {}).get("per_rank", [])
-                sent = (sum(p["exchanged_bytes"] for p in per_rank) / len(per_rank) / ticks
-                        if per_rank else 0.0)
-                share = (sum(p["exchange_wall_s"] / p["wall_s"] for p in per_rank) / len(per_rank)
-                         if per_rank else 0.0)
-                delivered = sum(x["delivered"] for x in j["nodes"])
-                wall_s = j["wall_s"]  # the engine's run, without mpirun's start and end
-                rows.append((n, k, wall_s, sent, share))
-                print(f"| {n} | {k or '1 (no mpirun)'} | {wall_s:.2f} | {1e3 * wall_s / ticks:.3f} | "
-                      f"{sent:.0f} | {100 * share:.0f} % | {delivered} |", flush=True)
+    for n, k, j, per_rank in runs(a, "virtual"):
+        sent = (sum(p["exchanged_bytes"] for p in per_rank) / len(per_rank) / ticks
+                if per_rank else 0.0)
+        share = (sum(p["exchange_wall_s"] / p["wall_s"] for p in per_rank) / len(per_rank)
+                 if per_rank else 0.0)
+        delivered = sum(x["delivered"] for x in j["nodes"])
+        wall_s = j["wall_s"]  # the engine's run, without mpirun's start and end
+        print(f"| {n} | {k or '1 (no mpirun)'} | {wall_s:.2f} | {1e3 * wall_s / ticks:.3f} | "
+              f"{sent:.0f} | {100 * share:.0f} % | {delivered} |", flush=True)
     # The model: an all-gather moves each transmitter's samples to the K - 1
     # other ranks; 8 bytes per complex sample.
     print()
@@ -121,25 +124,19 @@ def realtime(a):
     print("| N | K | worst lag ms (rank) | late ticks (all ranks) | lag at end ms | delivered | "
           "real time |")
     print("|---|---|---|---|---|---|---|")
-    with tempfile.TemporaryDirectory() as d:
-        base = 21000  # below Linux's ephemeral ports (32768-60999), which mpirun uses
-        for n in [int(x) for x in a.nodes.split(",")]:
-            for k in [int(x) for x in a.ranks.split(",")]:
-                j = run(d, n, k, a.seconds, a.interval, "realtime", base)
-                base += 10 * n + 100
-                per_rank = j.get("distributed", {}).get("per_rank", [])
-                if per_rank:
-                    worst, rank = max((p["max_lag_s"], r) for r, p in enumerate(per_rank))
-                    late = sum(p["late_ticks"] for p in per_rank)
-                else:
-                    worst, rank, late = j["max_lag_s"], 0, j.get("late_ticks", 0)
-                end = j["lag_s"]
-                delivered = sum(x["delivered"] for x in j["nodes"])
-                # Real time held: the run ended on the clock (a lag that grew
-                # to the end would show there) and no rank fell a second behind.
-                held = end < 0.05 and worst < 1.0
-                print(f"| {n} | {k or '1 (no mpirun)'} | {1e3 * worst:.1f} ({rank}) | {late} | "
-                      f"{1e3 * end:.1f} | {delivered} | {'yes' if held else 'no'} |", flush=True)
+    for n, k, j, per_rank in runs(a, "realtime"):
+        if per_rank:
+            worst, rank = max((p["max_lag_s"], r) for r, p in enumerate(per_rank))
+            late = sum(p["late_ticks"] for p in per_rank)
+        else:
+            worst, rank, late = j["max_lag_s"], 0, j.get("late_ticks", 0)
+        end = j["lag_s"]
+        delivered = sum(x["delivered"] for x in j["nodes"])
+        # Real time held: the run ended on the clock (a lag that grew
+        # to the end would show there) and no rank fell a second behind.
+        held = end < 0.05 and worst < 1.0
+        print(f"| {n} | {k or '1 (no mpirun)'} | {1e3 * worst:.1f} ({rank}) | {late} | "
+              f"{1e3 * end:.1f} | {delivered} | {'yes' if held else 'no'} |", flush=True)
 
 
 if __name__ == "__main__":

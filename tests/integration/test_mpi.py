@@ -83,6 +83,47 @@ def run(d, name, ranks, scenario=SCENARIO, extra=()):
         return r, json.load(f)
 
 
+class MpiRun:
+    """A real-time `mpirun ...` started for a test: its output in a file of
+    `d`, in a session of its own so that stop() (a cleanup of the test) ends
+    mpirun and any rank it left behind. Waits for rank 0's "rfsitl: ready"."""
+
+    def __init__(self, test, d, cmd, ready_within=120):
+        self.test = test
+        self.log = open(os.path.join(d, "out.log"), "w+b")
+        test.addCleanup(self.log.close)
+        self.proc = subprocess.Popen(cmd, stdout=self.log, stderr=subprocess.STDOUT,
+                                     env=MPI_ENV, start_new_session=True)
+        test.addCleanup(self.stop)
+        deadline = time.monotonic() + ready_within
+        while "rfsitl: ready" not in self.output():
+            test.assertIsNone(self.proc.poll(), self.output()[-3000:])
+            test.assertLess(time.monotonic(), deadline, self.output()[-3000:])
+            time.sleep(0.1)
+
+    def output(self):
+        # pread: the ranks write through the same open file, whose offset stays
+        # theirs; and it reads even after the test's folder is gone.
+        fd = self.log.fileno()
+        return os.pread(fd, os.fstat(fd).st_size, 0).decode(errors="replace")
+
+    def stop(self):
+        """SIGTERM to mpirun (it forwards it to the ranks), SIGKILL to what is
+        left after 60 s; returns the output."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(signal.SIGTERM)
+            try:
+                self.proc.wait(60)
+            except subprocess.TimeoutExpired:
+                pass
+        try:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        self.proc.wait()
+        return self.output()
+
+
 @unittest.skipIf(MPIRUN is None, "Open MPI's mpirun is not installed (scripts/setup.sh)")
 class MpiTest(unittest.TestCase):
     def test_ranks_give_the_counters_of_one_process(self):
@@ -233,15 +274,13 @@ class MpiSamplesProgramTest(unittest.TestCase):
 # the harness's load-tolerant ticks (4000 samples at a tenth of real time: 25
 # exchanges a wall second), without a MAC (csma's slots would be whole 4 ms
 # ticks, and a ping's wall-clock wait is 1 s).
-IP_SCENARIO = """name: mpi-ip-test
-time: {mode: realtime}
-ip: {enabled: true}
-nodes:
+SQUARE = """nodes:
   - {id: 1, position: {x: 0, y: 0, z: 10}}
   - {id: 2, position: {x: 10, y: 0, z: 10}}
   - {id: 3, position: {x: 0, y: 10, z: 10}}
   - {id: 4, position: {x: 10, y: 10, z: 10}}
-"""
+"""  # four nodes 10 m apart, in real time
+IP_SCENARIO = "name: mpi-ip-test\ntime: {mode: realtime}\nip: {enabled: true}\n" + SQUARE
 
 
 @unittest.skipIf(MPIRUN is None, "Open MPI's mpirun is not installed (scripts/setup.sh)")
@@ -256,43 +295,19 @@ class MpiIpTest(unittest.TestCase):
             prefix = f"rfsitl-{net_base}"
             self.addCleanup(remove_netns, prefix)
             summary = os.path.join(d, "ip.json")
-            log = open(os.path.join(d, "out.log"), "w+")
-            self.addCleanup(log.close)
-            proc = subprocess.Popen(
-                [MPIRUN, "-n", "2", *MPI_FLAGS, BIN, "run", write(d, IP_SCENARIO),
-                 "--net-base", str(net_base), "--loc-base", str(loc_base), "--no-dashboard",
-                 "--summary-json", summary, *LOAD_TOLERANT],
-                stdout=log, stderr=subprocess.STDOUT, text=True, env=MPI_ENV)
-
-            def output():
-                log.flush()
-                with open(log.name) as f:
-                    return f.read()
-
-            def stop():
-                if proc.poll() is None:
-                    proc.send_signal(signal.SIGTERM)
-                    try:
-                        proc.wait(60)
-                    except subprocess.TimeoutExpired:
-                        proc.kill()
-                        proc.wait()
-            self.addCleanup(stop)
-            deadline = time.monotonic() + 120
-            while "rfsitl: ready" not in output():
-                self.assertIsNone(proc.poll(), output()[-3000:])
-                self.assertLess(time.monotonic(), deadline, output()[-3000:])
-                time.sleep(0.1)
-            banner = output()
+            run = MpiRun(self, d, [MPIRUN, "-n", "2", *MPI_FLAGS, BIN, "run",
+                                   write(d, IP_SCENARIO), "--net-base", str(net_base),
+                                   "--loc-base", str(loc_base), "--no-dashboard",
+                                   "--summary-json", summary, *LOAD_TOLERANT])
+            banner = run.output()
             for i in range(1, 5):
                 self.assertIn(f"netns {prefix}-{i}", banner)
             self.assertEqual(netns_names(prefix), [f"{prefix}-{i}" for i in range(1, 5)])
             for i in (2, 3, 4):
                 wait_reachable(f"{prefix}-1", f"10.77.0.{i}", timeout=3 * ARRIVAL_S)
-            stop()
             # Open MPI 4.1's mpirun exits 1 after it forwarded a SIGTERM; the
             # ranks' own ends are in its output (a rank that failed is named).
-            text = output()
+            text = run.stop()
             self.assertNotIn("non-zero status", text)
             self.assertNotIn("exited on signal", text)
             self.assertEqual(text.count("rfsitl: SIGTERM received, shutting down"), 2, text[-3000:])
@@ -310,14 +325,7 @@ class MpiIpTest(unittest.TestCase):
             self.assertGreater(rank["wall_s"], 0)
 
 
-DASHBOARD_SCENARIO = """name: mpi-dashboard-test
-time: {mode: realtime}
-nodes:
-  - {id: 1, position: {x: 0, y: 0, z: 10}}
-  - {id: 2, position: {x: 10, y: 0, z: 10}}
-  - {id: 3, position: {x: 0, y: 10, z: 10}}
-  - {id: 4, position: {x: 10, y: 10, z: 10}}
-traffic:
+DASHBOARD_SCENARIO = "name: mpi-dashboard-test\ntime: {mode: realtime}\n" + SQUARE + """traffic:
   - {at_s: 0.02, src: 1, dst: 2, size_bytes: 60, repeat: 100000, interval_s: 0.05}
   - {at_s: 0.03, src: 4, dst: 3, size_bytes: 60, repeat: 100000, interval_s: 0.05}
 """
@@ -331,43 +339,14 @@ class MpiDashboardTest(unittest.TestCase):
         # what rank 1's live view shares.
         from test_all_faces_at_once import WebSocketViewer
         tmp = tempfile.TemporaryDirectory()
-        self.addCleanup(tmp.cleanup)  # after stop(): cleanups run last first
+        self.addCleanup(tmp.cleanup)  # after the run's stop(): cleanups run last first
         d = tmp.name
         net_base, loc_base = pick_port_bases({i: None for i in range(1, 5)})
-        log = open(os.path.join(d, "out.log"), "w+")
-        self.addCleanup(log.close)
-        # A session of its own: a failed test kills mpirun and its ranks.
-        proc = subprocess.Popen(
-            [MPIRUN, "-n", "2", *MPI_FLAGS, BIN, "run", write(d, DASHBOARD_SCENARIO),
-             "--net-base", str(net_base), "--loc-base", str(loc_base),
-             "--dashboard-port", "0", *LOAD_TOLERANT],
-            stdout=log, stderr=subprocess.STDOUT, text=True, env=MPI_ENV,
-            start_new_session=True)
-
-        def output():
-            log.flush()
-            with open(log.name) as f:
-                return f.read()
-
-        def stop():
-            if proc.poll() is None:
-                proc.send_signal(signal.SIGTERM)
-                try:
-                    proc.wait(60)
-                except subprocess.TimeoutExpired:
-                    pass
-            try:
-                os.killpg(proc.pid, signal.SIGKILL)  # ranks left behind, if any
-            except ProcessLookupError:
-                pass
-            proc.wait()
-        self.addCleanup(stop)
-        deadline = time.monotonic() + 120
-        while "rfsitl: ready" not in output():
-            self.assertIsNone(proc.poll(), output()[-3000:])
-            self.assertLess(time.monotonic(), deadline, output()[-3000:])
-            time.sleep(0.1)
-        text = output()
+        run = MpiRun(self, d, [MPIRUN, "-n", "2", *MPI_FLAGS, BIN, "run",
+                               write(d, DASHBOARD_SCENARIO), "--net-base", str(net_base),
+                               "--loc-base", str(loc_base), "--dashboard-port", "0",
+                               *LOAD_TOLERANT])
+        text = run.output()
         self.assertIn("rank 1: node(s) 2 4", text)
         port = int(re.search(r"rfsitl: dashboard http://[^/]*:(\d+)/", text).group(1))
         viewer = WebSocketViewer(port)
@@ -396,7 +375,7 @@ class MpiDashboardTest(unittest.TestCase):
         last = viewer.of_type("snapshot")[-1]
         sent = next(n for n in last["nodes"] if n["id"] == 1)["transmitted"]
         self.assertLessEqual(last["links"]["received"][1], sent)
-        stop()
+        run.stop()
 
 
 if __name__ == "__main__":

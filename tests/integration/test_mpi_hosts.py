@@ -25,7 +25,8 @@ import unittest
 
 from harness import ARRIVAL_S, BIN, LOAD_TOLERANT, assert_accounted, pick_port_bases
 from test_ip import ip_tools_missing
-from test_mpi import COMPARED, IP_SCENARIO, MPI_ENV, MPIRUN, NODES, SCENARIO, run, write
+from test_mpi import (COMPARED, IP_SCENARIO, MPI_ENV, MPIRUN, NODES, SCENARIO, MpiRun, run,
+                      write)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 AGENT = os.path.join(HERE, "mpi_netns_agent.sh")
@@ -179,38 +180,15 @@ class MpiHostsTest(unittest.TestCase):
         net_base, loc_base = pick_port_bases({i: None for i in range(1, 5)})
         prefix = f"rfsitl-{net_base}"
         summary = os.path.join(d, "ip.json")
-        log = open(os.path.join(d, "out.log"), "w+")
-        self.addCleanup(log.close)
-        proc = subprocess.Popen(
-            [*hosts.mpirun(d), BIN, "run", write(d, IP_SCENARIO), "--net-base", str(net_base),
-             "--loc-base", str(loc_base), "--no-dashboard", "--summary-json", summary,
-             *LOAD_TOLERANT],
-            stdout=log, stderr=subprocess.STDOUT, text=True, env=MPI_ENV)
-
-        def output():
-            log.flush()
-            with open(log.name) as f:
-                return f.read()
-
-        def stop():
-            if proc.poll() is None:
-                proc.send_signal(signal.SIGTERM)
-                try:
-                    proc.wait(60)
-                except subprocess.TimeoutExpired:
-                    proc.kill()
-                    proc.wait()
-        self.addCleanup(stop)
-        deadline = time.monotonic() + 3 * ARRIVAL_S
-        while "rfsitl: ready" not in output():
-            self.assertIsNone(proc.poll(), output()[-3000:])
-            self.assertLess(time.monotonic(), deadline, output()[-3000:])
-            time.sleep(0.1)
+        run = MpiRun(self, d, [*hosts.mpirun(d), BIN, "run", write(d, IP_SCENARIO),
+                               "--net-base", str(net_base), "--loc-base", str(loc_base),
+                               "--no-dashboard", "--summary-json", summary, *LOAD_TOLERANT],
+                     ready_within=3 * ARRIVAL_S)
         owners = {}
-        for rank, nodes in re.findall(r"rank (\d): node\(s\) ([\d ]+) \(cost", output()):
+        for rank, nodes in re.findall(r"rank (\d): node\(s\) ([\d ]+) \(cost", run.output()):
             for node in nodes.split():
                 owners[int(node)] = int(rank)
-        self.assertEqual(sorted(owners), [1, 2, 3, 4], output()[-3000:])
+        self.assertEqual(sorted(owners), [1, 2, 3, 4], run.output()[-3000:])
         pids = {name: rfsitl_pid(hosts, name) for name in (a, b)}
         self.assertTrue(all(pids.values()), f"no rfsitl rank on each host: {pids}")
         # Each host holds exactly its rank's nodes' namespaces, under its own
@@ -229,8 +207,7 @@ class MpiHostsTest(unittest.TestCase):
                           "-W", "1", f"10.77.0.{i}").returncode != 0:
                 self.assertLess(time.monotonic(), deadline, f"10.77.0.{i} never answered")
                 time.sleep(0.2)  # a ping that fails at once (no route yet) does not spin
-        stop()
-        text = output()
+        text = run.stop()
         self.assertEqual(text.count("rfsitl: SIGTERM received, shutting down"), 2, text[-3000:])
         with open(summary) as f:
             j = json.load(f)
