@@ -25,6 +25,7 @@ struct RunRanks {
   bool here(std::size_t node) const { return owner.empty() || owner[node] == rank; }
   /// here() for every node, as LiveSources takes it.
   std::vector<bool> here_mask(std::size_t nodes) const;
+  std::vector<std::string> hosts;  ///< the host of each rank (distributed runs)
   std::size_t ranks_on_host = 1;
   std::size_t local_rank = 0;  ///< among the ranks on this host
   /// Whether this process does the host-wide chores (one per host).
@@ -54,7 +55,8 @@ std::vector<std::string> gather_texts(RunRanks& ranks, const std::string& mine);
 /// `path` with ".rankR" before its extension ("run.pcapng" -> "run.rank1.pcapng").
 std::string rank_file_name(const std::string& path, std::size_t rank);
 
-/// The lines that say how the run is shared: one per rank, rank 0's banner.
+/// The lines that say how the run is shared: one per rank with its nodes and
+/// its host, rank 0's banner.
 std::string describe_ranks(const scenario::Scenario& s, const RunRanks& ranks);
 
 /// After the run, on rank 0: one line per rank (worst lag, bytes sent per

@@ -737,12 +737,15 @@ int run(const RunOptions& o) {
     j["mac"] = {{"type", s.mac.type}, {"description", engine->mac_description(0)}};
     if (ranks.distributed()) {
       nlohmann::json per_rank = nlohmann::json::array();
-      for (const engine::RankStatus& r : engine->ranks()) {
-        per_rank.push_back({{"max_lag_s", r.max_lag_s},
-                            {"late_ticks", r.late_ticks},
-                            {"exchanged_bytes", r.exchanged_bytes},
-                            {"exchange_wall_s", r.exchange_wall_s},
-                            {"wall_s", r.wall_s}});
+      const auto rank_figures = engine->ranks();
+      for (std::size_t r = 0; r < rank_figures.size(); ++r) {
+        const engine::RankStatus& f = rank_figures[r];
+        per_rank.push_back({{"host", r < ranks.hosts.size() ? ranks.hosts[r] : std::string()},
+                            {"max_lag_s", f.max_lag_s},
+                            {"late_ticks", f.late_ticks},
+                            {"exchanged_bytes", f.exchanged_bytes},
+                            {"exchange_wall_s", f.exchange_wall_s},
+                            {"wall_s", f.wall_s}});
       }
       j["distributed"] = {
           {"ranks", ranks.size}, {"owner_rank", ranks.owner}, {"per_rank", per_rank}};

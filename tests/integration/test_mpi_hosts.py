@@ -162,9 +162,11 @@ class MpiHostsTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stdout[-3000:] + r.stderr[-3000:])
         self.assertEqual(rank_hosts(r.stdout), {0: a, 1: b}, r.stdout[-3000:])
         self.assertIn(f"distributed run on 2 ranks (this is rank 0 on {a})", r.stdout)
+        self.assertRegex(r.stdout, rf"rank 1: node\(s\) [\d ]+ \(cost [\d.]+\) on {b}\n")
         with open(summary) as f:
             many = json.load(f)
         assert_accounted(self, many)
+        self.assertEqual([p["host"] for p in many["distributed"]["per_rank"]], [a, b])
         self.assertEqual(sorted(set(many["distributed"]["owner_rank"])), [0, 1])
         for x, y in zip(one["nodes"], many["nodes"]):
             for key in COMPARED:
