@@ -4,16 +4,15 @@
 #include <complex>
 #include <stdexcept>
 
+#include "avx2_clones.hpp"
+
 namespace rfsitl::phy::ofdm {
 namespace {
 
 /// C(m) += sum_k x[m + k] ref[k] for m in [0, lags), k in [0, 64), the lags in
-/// the inner loop. Compiled for AVX2 and plain x86-64 (no FMA: both round alike).
-__attribute__((target_clones("avx2", "default"))) void correlate(const float* xr, const float* xi,
-                                                                 const float* ref_re,
-                                                                 const float* ref_im,
-                                                                 std::size_t lags, float* cr,
-                                                                 float* ci) {
+/// the inner loop. Compiled for AVX2 and plain x86-64 (avx2_clones.hpp).
+RFSITL_AVX2_CLONES void correlate(const float* xr, const float* xi, const float* ref_re,
+                                  const float* ref_im, std::size_t lags, float* cr, float* ci) {
   for (std::size_t k = 0; k < 64; ++k) {
     const float a = ref_re[k];
     const float b = ref_im[k];

@@ -4,13 +4,12 @@
 #include <cmath>
 #include <cstdint>
 
+#include "avx2_clones.hpp"
+
 namespace rfsitl::phy::ofdm {
 namespace {
 
-// The block loops are compiled twice, for AVX2 and for plain x86-64, and the
-// CPU picks one when the program loads. No FMA in either: both round alike, so
-// a detection does not depend on the machine.
-#define RFSITL_STS_CLONES __attribute__((target_clones("avx2", "default")))
+// The block loops are compiled for AVX2 and plain x86-64 (avx2_clones.hpp).
 
 constexpr float kThreshold = 0.55F;
 constexpr float kTh2 = kThreshold * kThreshold;
@@ -20,7 +19,7 @@ constexpr unsigned kPlateau = 24;
 /// sums of 16 (scratch t, n + 47 long) and then three of those: six vector adds
 /// per output, and every window sum is the same tree of the same 48 values
 /// wherever the blocks happen to start (no running sum to drift).
-RFSITL_STS_CLONES void window_sums48(const float* q, std::size_t n, float* t, float* out) {
+RFSITL_AVX2_CLONES void window_sums48(const float* q, std::size_t n, float* t, float* out) {
   const std::size_t m = n + 47;
   for (std::size_t j = 0; j + 1 < m; ++j) t[j] = q[j] + q[j + 1];   // pairs
   for (std::size_t j = 0; j + 3 < m; ++j) t[j] = t[j] + t[j + 2];   // fours
@@ -31,7 +30,7 @@ RFSITL_STS_CLONES void window_sums48(const float* q, std::size_t n, float* t, fl
 
 /// Products x[i - 16] x*[i] as (ar br + ai bi, ai br - ar bi) and powers
 /// |x[i]|^2 of the n samples after the kLag in xf (interleaved re, im).
-RFSITL_STS_CLONES void products(const float* xf, std::size_t n, float* qr, float* qi, float* qw) {
+RFSITL_AVX2_CLONES void products(const float* xf, std::size_t n, float* qr, float* qi, float* qw) {
   constexpr std::size_t kLag = StsDetector::kLag;
   for (std::size_t i = 0; i < n; ++i) {
     const float ar = xf[2 * i];
@@ -46,8 +45,8 @@ RFSITL_STS_CLONES void products(const float* xf, std::size_t n, float* qr, float
 
 /// The test |S| > 0.55 W as (|S| / W)^2 > 0.3025: no square of a strong
 /// signal's sums to overflow a float. W = 0 (then S = 0) gives NaN: not above.
-RFSITL_STS_CLONES void threshold(const float* sr, const float* si, const float* sw, std::size_t n,
-                                 std::uint8_t* above) {
+RFSITL_AVX2_CLONES void threshold(const float* sr, const float* si, const float* sw, std::size_t n,
+                                  std::uint8_t* above) {
   for (std::size_t i = 0; i < n; ++i) {
     const float inv = 1.0F / sw[i];
     const float a = sr[i] * inv;
