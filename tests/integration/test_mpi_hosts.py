@@ -1,6 +1,6 @@
 """A distributed run across hosts (`mpirun --hostfile`), on this one machine:
 each host is a network namespace this test makes, with its own network stack,
-host name, /tmp and /run, joined to the other by a bridge; Open MPI starts its
+host name and /run, joined to the other by a bridge; Open MPI starts its
 daemons there through mpi_netns_agent.sh as it would through ssh, and the
 ranks talk over TCP between the hosts only (no shared-memory transport).
 
@@ -142,7 +142,6 @@ def on_host(pid, *cmd, timeout=60):
 @unittest.skipIf(hosts_missing(), hosts_missing() or "")
 class MpiHostsTest(unittest.TestCase):
     def shared_dir(self):
-        # Not under /tmp: each host has a /tmp of its own.
         d = tempfile.TemporaryDirectory(dir="/var/tmp", prefix="rfsitl-mpi-hosts-")
         self.addCleanup(d.cleanup)
         return d.name
