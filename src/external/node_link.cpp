@@ -21,6 +21,10 @@ bool NodeLink::adopt() {
   if (!offered_.load(std::memory_order_acquire)) return false;
   std::lock_guard lock(offer_mutex_);
   if (!offered_channel_) return false;
+  // The new connection is counted before the old one is closed: the old
+  // peer may try to claim the node again the moment it sees its socket
+  // close, and claimed() must not find joins == drops in between.
+  joins_.fetch_add(1, std::memory_order_relaxed);
   // The old connection ends here whether or not its process is still alive
   // (a restarted child's old socket may not have been noticed closed yet):
   // count it, so that joins - drops stays the number of live connections.
@@ -28,7 +32,6 @@ bool NodeLink::adopt() {
   channel_ = std::move(*offered_channel_);
   offered_channel_.reset();
   program_ = std::move(offered_program_);
-  joins_.fetch_add(1, std::memory_order_relaxed);
   spdlog::info("node {}: external transceiver '{}' joined", id_, log_text(program_));
   return true;
 }
@@ -36,8 +39,10 @@ bool NodeLink::adopt() {
 bool NodeLink::claimed() const {
   // offered_ stays true after the first adoption (ever_joined() reads it), so
   // a pending offer is the channel itself, under the mutex.
-  if (joins() > drops()) return true;
+  // Under the offer's mutex, so that an adoption (which moves the offer into
+  // a join) is seen whole.
   std::lock_guard lock(offer_mutex_);
+  if (joins() > drops()) return true;
   if (!offered_channel_) return false;
   // An offer whose process has gone again (a probe that opened the device and
   // exited before the engine ran) claims nothing.
