@@ -53,6 +53,11 @@ for t in "${targets[@]}"; do
     fi
   done
 done
+# Artifacts of target $t in $out/crashes matching grep's arguments. A "slow
+# unit" is one that took over 10 s of wall time, which on a busy machine says
+# more about the machine than the parser: counted apart (each is kept, to be
+# timed again) and not a failure. Everything else is.
+count() { ls "$out/crashes" | grep "^$t-" | grep -c "$@" || true; }
 for t in "${targets[@]}"; do
   corpus="$scratch/$t"
   mkdir -p "$corpus"
@@ -60,10 +65,6 @@ for t in "${targets[@]}"; do
   log="$out/$t.log"
   limit=()
   [ "$seconds" -gt 0 ] && limit=(-max_total_time="$seconds")
-  # A "slow unit" is one that took over 10 s of wall time, which on a busy
-  # machine says more about the machine than the parser: counted apart (each
-  # is kept, to be timed again) and not a failure. Everything else is.
-  count() { ls "$out/crashes" | grep "^$t-" | grep -c "$@" || true; }
   before=$(count -v -- "-slow-unit-")
   slow_before=$(count -- "-slow-unit-")
   start=$(date +%s.%N)

@@ -101,18 +101,9 @@ std::string rank_file_name(const std::string& path, std::size_t rank) {
 }
 
 std::string describe_ranks(const scenario::Scenario& s, const RunRanks& ranks) {
-  std::string out = "rfsitl: distributed run on " + std::to_string(ranks.size) +
-                    " ranks (this is rank " + std::to_string(ranks.rank) + " on " +
-                    cluster::host_name() + ")\n";
-  // describe_assignment gives one line per rank, in rank order: each gets its host.
-  const std::string lines = cluster::describe_assignment(s, ranks.owner, ranks.size);
-  std::size_t rank = 0, start = 0;
-  for (std::size_t end; (end = lines.find('\n', start)) != std::string::npos; start = end + 1) {
-    out += lines.substr(start, end - start);
-    if (rank < ranks.hosts.size()) out += " on " + ranks.hosts[rank++];
-    out += '\n';
-  }
-  return out + lines.substr(start);
+  return "rfsitl: distributed run on " + std::to_string(ranks.size) + " ranks (this is rank " +
+         std::to_string(ranks.rank) + " on " + cluster::host_name() + ")\n" +
+         cluster::describe_assignment(s, ranks.owner, ranks.size, ranks.hosts);
 }
 
 std::string rank_summary(const engine::Engine& e, double tick_s) {

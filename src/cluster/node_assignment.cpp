@@ -39,7 +39,7 @@ std::vector<std::size_t> assign_nodes(const scenario::Scenario& s, std::size_t r
 }
 
 std::string describe_assignment(const scenario::Scenario& s, const std::vector<std::size_t>& owner,
-                                std::size_t ranks) {
+                                std::size_t ranks, const std::vector<std::string>& hosts) {
   std::string out;
   for (std::size_t r = 0; r < ranks; ++r) {
     std::string ids;
@@ -50,8 +50,9 @@ std::string describe_assignment(const scenario::Scenario& s, const std::vector<s
       cost += expected_cost(s, i);
     }
     char line[64];
-    std::snprintf(line, sizeof line, " (cost %.1f)\n", cost);
-    out += "  rank " + std::to_string(r) + ": node(s)" + (ids.empty() ? " none" : ids) + line;
+    std::snprintf(line, sizeof line, " (cost %.1f)", cost);
+    out += "  rank " + std::to_string(r) + ": node(s)" + (ids.empty() ? " none" : ids) + line +
+           (r < hosts.size() ? " on " + hosts[r] : std::string()) + "\n";
   }
   return out;
 }

@@ -79,17 +79,14 @@ def in_netns(name, *cmd, timeout=60):
 
 
 def wait_reachable(netns, address, timeout=ARRIVAL_S):
-    """Pings once a second until one reply comes back (bounded by timeout)."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if in_netns(netns, "ping", "-c", "1", "-W", "1", address).returncode == 0:
-            return
-    raise AssertionError(f"{address} never answered from {netns} within {timeout} s")
+    """Pings until one reply comes back (bounded by timeout)."""
+    ping_until_replies(netns, address, 1, timeout, wait_s=1)
 
 
-def ping_until_replies(netns, address, replies, timeout):
-    """Pings `address` once at a time until `replies` have come back (bounded
-    by timeout); returns how many pings that took."""
+def ping_until_replies(netns, address, replies, timeout, wait_s=3):
+    """Pings `address` once at a time, each waiting up to `wait_s` for its
+    reply, until `replies` have come back (bounded by timeout); returns how
+    many pings that took."""
     deadline = time.monotonic() + timeout
     got = sent = 0
     while got < replies:
@@ -97,7 +94,7 @@ def ping_until_replies(netns, address, replies, timeout):
             raise AssertionError(f"{got} of {sent} pings from {netns} to {address} answered "
                                  f"within {timeout} s ({replies} wanted)")
         sent += 1
-        got += in_netns(netns, "ping", "-c", "1", "-W", "3", address).returncode == 0
+        got += in_netns(netns, "ping", "-c", "1", "-W", str(wait_s), address).returncode == 0
     return sent
 
 

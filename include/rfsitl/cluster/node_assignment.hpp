@@ -20,8 +20,9 @@ double expected_cost(const scenario::Scenario& s, std::size_t index);
 /// rank computes the same from the same scenario. Precondition: ranks >= 1.
 std::vector<std::size_t> assign_nodes(const scenario::Scenario& s, std::size_t ranks);
 
-/// One line per rank for the banner: "rank 1: nodes 2 4 6 (cost 3.0)".
+/// One line per rank for the banner: "rank 1: node(s) 2 4 6 (cost 3.0) on HOST"
+/// (" on HOST" when `hosts`, by rank, names it).
 std::string describe_assignment(const scenario::Scenario& s, const std::vector<std::size_t>& owner,
-                                std::size_t ranks);
+                                std::size_t ranks, const std::vector<std::string>& hosts = {});
 
 }  // namespace rfsitl::cluster
