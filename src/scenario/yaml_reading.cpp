@@ -100,16 +100,18 @@ Section::Section(Context& c, const Entry& at) : c_(c), at_(at) {
     c.record(key, line_of(kv.first));
     if (!fresh) c.fail(key, "duplicate key (first at line " + std::to_string(it->second) + ")");
   }
-  map_ = at.value;
+  map_.reset(at.value);  // rebinds (`=` would merge the document's nodes into map_'s)
 }
 
 Entry Section::take(std::string_view leaf) {
   known_.push_back(leaf);
-  Entry e{YAML::Node(YAML::NodeType::Undefined), child(leaf)};
+  // Copies of a YAML::Node share the node; assigning one to a node that
+  // exists (`=`) merges the whole document's node set into it, for every key
+  // read: quadratic in the file's size. The constructor made keys unique.
   for (const auto& kv : map_) {
-    if (kv.first.Scalar() == leaf) e.value = kv.second;
+    if (kv.first.Scalar() == leaf) return Entry{kv.second, child(leaf)};
   }
-  return e;
+  return Entry{YAML::Node(YAML::NodeType::Undefined), child(leaf)};
 }
 
 Entry Section::require(std::string_view leaf) {
