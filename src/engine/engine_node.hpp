@@ -1,5 +1,5 @@
 #pragma once
-// One node as the lock-step engine holds it (engine.cpp): its transceiver,
+// One node as the lock-step engine holds it (lock_step_engine.hpp): its transceiver,
 // MAC and TX queue, and what the current tick's phases leave for the next.
 // Internal to the engine module.
 #include <cstddef>

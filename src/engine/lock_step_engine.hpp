@@ -5,6 +5,7 @@
 /// phase). Its definitions are split by phase: lock_step_engine.cpp (set-up,
 /// the Engine interface, the tick and its TX phase), receive_phase.cpp (the
 /// RX phase and the ledger's books), distributed_tick.cpp (what ranks swap).
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstddef>
@@ -97,10 +98,16 @@ class LockStepEngine final : public Engine {
   /// after its scheduled time.
   void inject_traffic();
 
+  /// At each tick's start: the positions reported (in a distributed run,
+  /// every rank's, swapped at the previous tick) and the mobility models'
+  /// into the channel.
   void apply_positions();
 
+  /// Every node's velocity and attitude into the channel (fading, antennas).
   void copy_motions();
 
+  /// One tick of B samples: positions, traffic, the TX phase, (the ranks'
+  /// exchange), the RX phase, the decodes; then the ledger settles.
   void run_tick();
 
   /// Per node, in parallel: the MAC may start a frame, then B samples. A
