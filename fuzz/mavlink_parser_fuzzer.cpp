@@ -4,7 +4,8 @@
 /// Input: [mode][seed of the cut points][data...].
 /// Mode even: `data` is the stream. After every read:
 ///  - buffered() <= kMaxFrameBytes (memory bounded whatever the vehicle sends);
-///  - bytes fed == frame_bytes + unknown_id_bytes + garbage_bytes + buffered();
+///  - bytes fed == frame_bytes + unknown_id_bytes + rejected_bytes + garbage_bytes +
+///    buffered();
 ///  - every message has version 1 or 2, an id in the catalog, a v1 payload of
 ///    exactly the message's base length, and a decoded type when it has one;
 /// and at the end the same messages, counters and buffered bytes whether the
@@ -77,7 +78,8 @@ Result run(std::span<const std::uint8_t> stream, NextLen next_len) {
     fed += n;
     const mav::ParserCounters& c = parser.counters();
     FUZZ_CHECK(parser.buffered() <= mav::kMaxFrameBytes, "buffered %zu", parser.buffered());
-    FUZZ_CHECK(fed == c.frame_bytes + c.unknown_id_bytes + c.garbage_bytes + parser.buffered(),
+    FUZZ_CHECK(fed == c.frame_bytes + c.unknown_id_bytes + c.rejected_bytes + c.garbage_bytes +
+                          parser.buffered(),
                "fed %zu, frames %llu, unknown %llu, garbage %llu, buffered %zu", fed,
                static_cast<unsigned long long>(c.frame_bytes),
                static_cast<unsigned long long>(c.unknown_id_bytes),

@@ -17,4 +17,7 @@ std::function<int()> add_describe_command(CLI::App& parent);
 /// Registers `rfsitl node`: one node's transceiver in its own process.
 std::function<int()> add_node_command(CLI::App& parent);
 
+/// Registers `rfsitl mavlink-send`: stand-in MAVLink vehicles for --mavlink.
+std::function<int()> add_mavlink_send_command(CLI::App& parent);
+
 }  // namespace rfsitl::app

@@ -79,6 +79,11 @@ void follow_mavlink(scenario::Scenario& s, const std::string& endpoint) {
   } catch (const config::SettingError& e) {
     throw scenario::ScenarioError("--mavlink: " + std::string(e.what()));
   }
+  // Said here, naming the flag, rather than by validate_scenario() as a
+  // problem of the scenario's position.source, which the user never wrote.
+  if (s.timing.mode == scenario::TimeMode::kVirtual) {
+    throw scenario::ScenarioError("--mavlink: " + scenario::wall_clock_conflict(s.timing));
+  }
   s.position_source = p;
   for (auto& n : s.nodes) n.source.reset();
 }

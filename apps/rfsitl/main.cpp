@@ -1,7 +1,9 @@
 /// rfsitl: software-in-the-loop RF channel emulator for UAV swarms.
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
+#include <cstring>
 #include <iostream>
+#include <string>
 
 #include "commands.hpp"
 
@@ -20,15 +22,26 @@ int main(int argc, char** argv) {
   auto ping = rfsitl::app::add_ping_command(app);
   auto node = rfsitl::app::add_node_command(app);
   auto describe = rfsitl::app::add_describe_command(app);
+  auto mavlink_send = rfsitl::app::add_mavlink_send_command(app);
   // CLI11 would call an unknown command a missing one ("A subcommand is required").
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* c) { return c->check_name(argv[1]); }).empty()) {
     std::cerr << "rfsitl: unknown command '" << argv[1]
-              << "' (commands: run, ping, describe, node; see rfsitl --help)\n";
+              << "' (commands: run, ping, describe, node, mavlink-send; see rfsitl --help)\n";
     return 2;
   }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::ArgumentMismatch& e) {
+    // CLI11 says "--speed: At Most 1 required but received 2" for a flag given
+    // twice; say it as a user would.
+    const std::string what = e.what();
+    const auto at = what.find(": At Most 1 required but received ");
+    if (at == std::string::npos) return app.exit(e);
+    std::cerr << "rfsitl: " << what.substr(0, at) << " given "
+              << what.substr(at + std::strlen(": At Most 1 required but received "))
+              << " times; give it once\n";
+    return e.get_exit_code();
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
@@ -36,5 +49,6 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("ping")) return ping();
   if (app.got_subcommand("node")) return node();
   if (app.got_subcommand("describe")) return describe();
+  if (app.got_subcommand("mavlink-send")) return mavlink_send();
   return 2;
 }

@@ -45,7 +45,9 @@ std::function<int()> add_node_command(CLI::App& parent) {
       "node",
       "One node's transceiver in its own process. Started by `rfsitl run` itself for nodes with "
       "phy.process: child (or --arch split); not meant to be run by hand");
-  cmd->add_option("--socket", opts->node.socket_path, "The emulator's external socket")->required();
+  cmd->add_option("--socket", opts->node.socket_path, "The emulator's external socket")
+      ->type_name("PATH")
+      ->required();
   cmd->add_option("--id", opts->id, "Node id")->required()->check(CLI::Range(1, int{kMaxNodeId}));
   cmd->add_option("--connect-timeout", opts->node.connect_timeout_s,
                   "Seconds to keep trying to join (the pause between attempts doubles from "

@@ -326,10 +326,13 @@ std::function<int()> add_ping_command(CLI::App& parent) {
   cmd->add_option("--connect-timeout", opts->connect_timeout_s,
                   "Seconds to keep retrying the connection to the emulator")
       ->capture_default_str();
-  cmd->add_option("--host", opts->host, "Emulator address")->capture_default_str();
+  cmd->add_option("--host", opts->host, "Emulator address")
+      ->type_name("HOST")
+      ->capture_default_str();
   cmd->add_option("--net-base", opts->net_base, "Net port base of the emulator")
       ->capture_default_str();
-  cmd->add_option("--csv", opts->csv, "Write every packet's RTT to this CSV file");
+  cmd->add_option("--csv", opts->csv, "Write every packet's RTT to this CSV file")
+      ->type_name("PATH");
   cmd->add_flag("--quiet,-q", opts->quiet, "Print only the summary line");
   cmd->add_flag("--take-over", opts->take_over,
                 "Replace agents connected to the two net ports (default: refuse)");

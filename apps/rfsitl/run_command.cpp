@@ -49,8 +49,9 @@ namespace {
 /// and the file accept exactly the same values, and errors name the flag.
 struct SettingFlag {
   const char* flag;
-  const char* key;  ///< dotted scenario key
-  const char* help;
+  const char* key;   ///< dotted scenario key
+  const char* type;  ///< what --help shows for the value (UINT, FLOAT, ...)
+  const char* help;  ///< says the unit
   std::string (*default_of)(const scenario::Scenario&);  ///< for --help
 };
 
@@ -61,38 +62,43 @@ std::string number(double v) {
 
 using S = const scenario::Scenario&;
 const SettingFlag kSettingFlags[] = {
-    {"--net-base", "ports.net_base", "Net port base: node n listens on base + 10 n",
+    {"--net-base", "ports.net_base", "UINT", "Net port base: node n listens on base + 10 n",
      [](S d) { return number(d.ports.net_base); }},
-    {"--loc-base", "ports.loc_base", "Location port base: base + 10 n",
+    {"--loc-base", "ports.loc_base", "UINT", "Location port base: base + 10 n",
      [](S d) { return number(d.ports.loc_base); }},
-    {"--bind", "ports.bind", "Address or host name every server listens on (e.g. localhost)",
+    {"--bind", "ports.bind", "HOST",
+     "Address or host name every server listens on (e.g. localhost)",
      [](S d) { return d.ports.bind_address; }},
-    {"--mode", "time.mode", "realtime or virtual (as fast as possible, deterministic)",
+    {"--mode", "time.mode", "{realtime,virtual}",
+     "realtime or virtual (as fast as possible, deterministic)",
      [](S) { return std::string("realtime"); }},
-    {"--speed", "time.speed", "Real-time speed factor: virtual seconds per wall second",
+    {"--speed", "time.speed", "FLOAT", "Real-time speed factor: virtual seconds per wall second",
      [](S d) { return number(d.timing.speed); }},
-    {"--duration", "time.duration_s", "Virtual seconds to run; 0: until Ctrl-C",
+    {"--duration", "time.duration_s", "FLOAT", "Virtual seconds to run; 0: until Ctrl-C",
      [](S d) { return number(d.timing.duration_s); }},
-    {"--sample-rate", "time.sample_rate_hz", "Sample rate fs in Hz",
+    {"--sample-rate", "time.sample_rate_hz", "FLOAT", "Sample rate fs in Hz",
      [](S d) { return number(d.timing.sample_rate_hz); }},
-    {"--tick", "time.tick_samples", "Samples per lock-step tick (B)",
+    {"--tick", "time.tick_samples", "UINT", "Samples per lock-step tick (B)",
      [](S d) { return number(d.timing.tick_samples); }},
-    {"--tick-us", "time.tick_us",
+    {"--tick-us", "time.tick_us", "FLOAT",
      "Tick by duration in us, at the sample rate (a whole number of samples); instead of --tick",
      [](S d) { return number(1e6 * d.timing.tick_samples / d.timing.sample_rate_hz); }},
-    {"--seed", "seed", "Seed of the noise sources", [](S d) { return number(double(d.seed)); }},
-    {"--threads", "engine.threads", "Worker threads; 0: one per core",
+    {"--seed", "seed", "UINT", "Seed of the noise sources",
+     [](S d) { return number(double(d.seed)); }},
+    {"--threads", "engine.threads", "UINT", "Worker threads; 0: one per core",
      [](S d) { return number(d.engine.threads); }},
-    {"--noise-db", "channel.noise_power_db", "Noise power 10 log10(sigma^2) in dB, -300..300",
+    {"--noise-db", "channel.noise_power_db", "FLOAT",
+     "Noise power 10 log10(sigma^2) in dB, -300..300",
      [](S d) { return number(10.0 * std::log10(d.channel.noise_variance)); }},
-    {"--stats-interval", "engine.stats_interval_s", "Wall seconds between stats lines; 0: off",
+    {"--stats-interval", "engine.stats_interval_s", "FLOAT",
+     "Wall seconds between stats lines; 0: off",
      [](S d) { return number(d.engine.stats_interval_s); }},
-    {"--phy", "phy.type",
+    {"--phy", "phy.type", "NAME",
      "Transceiver of every node without its own phy (rfsitl describe phy lists them)",
      [](S d) { return d.phy.type; }},
-    {"--external-socket", "external.socket", "Unix socket for external transceivers",
+    {"--external-socket", "external.socket", "PATH", "Unix socket for external transceivers",
      [](S) { return std::string("/tmp/rfsitl-<net-base>.sock"); }},
-    {"--external-timeout", "external.reply_timeout_s",
+    {"--external-timeout", "external.reply_timeout_s", "FLOAT",
      "Seconds an external transceiver may take to answer before it is dropped",
      [](S d) { return number(d.external.reply_timeout_s); }},
 };
@@ -421,7 +427,16 @@ int run(const RunOptions& o) {
     if (pcap) std::remove(pcap_path.c_str());  // unlinked; the object closes it later
     return 2;
   }
-  if (speaks) print_banner(s, sc, *sources, *engine);
+  if (speaks) {
+    std::vector<std::string> served_by(s.nodes.size());
+    for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+      if (ranks.here(i)) continue;
+      const std::size_t r = ranks.owner[i];
+      served_by[i] = "rank " + std::to_string(r) +
+                     (r < ranks.hosts.size() ? " (host " + ranks.hosts[r] + ")" : "");
+    }
+    print_banner(s, sc, *sources, *engine, served_by);
+  }
   if (ranks.distributed() && speaks) {
     std::fputs(describe_ranks(s, ranks).c_str(), stdout);
     std::fflush(stdout);
@@ -585,7 +600,8 @@ std::function<int()> add_run_command(CLI::App& parent) {
   CLI::App* cmd =
       parent.add_subcommand("run", "Run the emulator: one net port and one location port per node");
   // No CLI::ExistingFile: the loader's message names the file and the reason.
-  cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/");
+  cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/")
+      ->type_name("PATH");
   cmd->add_option(
          "--nodes", opts->nodes,
          "Nodes in the default formation where every link decodes (1..254; 6 without a scenario)")
@@ -593,6 +609,7 @@ std::function<int()> add_run_command(CLI::App& parent) {
   const scenario::Scenario defaults;
   for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
     cmd->add_option(kSettingFlags[i].flag, opts->settings[i], kSettingFlags[i].help)
+        ->type_name(kSettingFlags[i].type)
         ->default_str(kSettingFlags[i].default_of(defaults));
   }
   cmd->add_option("--arch", opts->arch,
@@ -600,7 +617,8 @@ std::function<int()> add_run_command(CLI::App& parent) {
                   "`rfsitl node` process each)")
       ->check(CLI::IsMember({"threads", "split"}));
   cmd->add_option("--pcap", opts->pcap_path,
-                  "Write every frame event to this pcapng file (Wireshark; docs/traces.md)");
+                  "Write every frame event to this pcapng file (Wireshark; docs/traces.md)")
+      ->type_name("PATH");
   cmd->add_option("--pcap-max-mb", opts->pcap_max_mb, "Rotate the pcap file beyond this size (MiB)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -608,7 +626,8 @@ std::function<int()> add_run_command(CLI::App& parent) {
       ->check(CLI::Range(1U, 1000U))
       ->capture_default_str();
   cmd->add_option("--sigmf", opts->sigmf_dir,
-                  "Record received I/Q in SigMF into this directory (docs/traces.md)");
+                  "Record received I/Q in SigMF into this directory (docs/traces.md)")
+      ->type_name("DIR");
   cmd->add_option("--sigmf-nodes", opts->sigmf_nodes,
                   "Node ids to record, e.g. 2,5 (default: all; a recorded receiver runs every "
                   "tick of the window, so fewer nodes cost less)")
@@ -627,14 +646,16 @@ std::function<int()> add_run_command(CLI::App& parent) {
   cmd->add_option("--mavlink", opts->mavlink,
                   "Follow MAVLink vehicles: tcp:HOST:PORT (connect) or udp:HOST:PORT (listen), "
                   "+STEP: node n uses PORT + STEP (n - 1); e.g. tcp:127.0.0.1:5762+10 follows "
-                  "ArduPilot SITL instances 0, 1, 2 ...");
+                  "ArduPilot SITL instances 0, 1, 2 ...")
+      ->type_name("ENDPOINT");
   cmd->add_flag(
       "--ip", opts->ip,
       "IP on every node: a network namespace each (rfsitl-<net base>-<id>) with a TAP "
       "interface whose frames cross the radio channel (root; the scenario's ip: section)");
   cmd->add_option("--mac", opts->mac,
                   "Every node's MAC: none (the paper's: send when idle), csma (802.11 DCF-like) "
-                  "or tdma (the scenario's mac: section sets their settings)");
+                  "or tdma (the scenario's mac: section sets their settings)")
+      ->type_name("NAME");
   cmd->add_flag("--no-dashboard", opts->no_dashboard, "Do not serve the web dashboard");
   CLI::Option* control = cmd->add_flag("--dashboard-control", opts->dashboard_control,
                                        "Let dashboard viewers move nodes (off by default)");
@@ -643,16 +664,18 @@ std::function<int()> add_run_command(CLI::App& parent) {
       "Token that moving nodes requires (16-256 of A-Z a-z 0-9 . _ ~ -), as ?token= in the page "
       "URL or \"Authorization: Bearer\"; beyond loopback one is drawn and printed if not given "
       "(visible in ps: prefer --dashboard-token-file)");
-  token->needs(control);
+  token->type_name("TOKEN")->needs(control);
   cmd->add_option("--dashboard-token-file", opts->dashboard_token_file,
                   "Read the control token from the first line of this file")
+      ->type_name("PATH")
       ->needs(control)
       ->excludes(token);
   cmd->add_flag("--no-skip", opts->no_skip, "Run every receiver every tick (no silence skipping)");
   cmd->add_flag("--shared-noise", opts->shared_noise,
                 "One noise source for all receivers (the paper's setup)");
   cmd->add_option("--summary-json", opts->summary_json,
-                  "Write the final counters as JSON to this file (checked at start)");
+                  "Write the final counters as JSON to this file (checked at start)")
+      ->type_name("PATH");
   return [opts] { return run(*opts); };
 }
 

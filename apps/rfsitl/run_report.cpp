@@ -28,7 +28,8 @@ std::string format_position(const std::optional<Position>& p) {
 }  // namespace
 
 void print_banner(const scenario::Scenario& s, const agent_port::NetPortsConfig& sc,
-                  const LiveSources& sources, const engine::Engine& engine) {
+                  const LiveSources& sources, const engine::Engine& engine,
+                  const std::vector<std::string>& served_by) {
   const double tick_ms = 1e3 * s.timing.tick_samples / s.timing.sample_rate_hz;
   std::printf(
       "rfsitl: scenario '%s': %zu nodes, fs %.0f Hz, tick %u samples (%.3f ms), %s x%.2f, "
@@ -45,10 +46,17 @@ void print_banner(const scenario::Scenario& s, const agent_port::NetPortsConfig&
         live && live->type != "mobility" && live->type != "location_port") {
       where += ", follows " + live->type + " " + live->where;
     }
+    const unsigned net_port = agent_port::NetPorts::net_port(sc, n.id);
+    if (i < served_by.size() && !served_by[i].empty()) {
+      // Its ports are on that rank's host, at the same port numbers.
+      std::printf("  node %3u: %-26s net %u%s  location %u  on %s  %s\n", n.id,
+                  s.phy_of(i).label().c_str(), net_port, own_net ? "" : " (its program's)",
+                  unsigned{s.ports.loc_base} + 10U * n.id, served_by[i].c_str(), where.c_str());
+      continue;
+    }
     std::printf("  node %3u: %-26s net %s:%u%s  location %s  %s\n", n.id,
-                s.phy_of(i).label().c_str(), sc.bind_address.c_str(),
-                agent_port::NetPorts::net_port(sc, n.id), own_net ? "" : " (its program's)",
-                sources.location_port(i).c_str(), where.c_str());
+                s.phy_of(i).label().c_str(), sc.bind_address.c_str(), net_port,
+                own_net ? "" : " (its program's)", sources.location_port(i).c_str(), where.c_str());
   }
   if (s.mac.type != "none") std::printf("rfsitl: mac %s\n", engine.mac_description(0).c_str());
 }
@@ -81,8 +89,9 @@ void print_summary(engine::Engine& e) {
       "\nrfsitl summary: virtual %.3f s in %.3f s wall, worst real-time lag %.2f ms, "
       "late ticks %llu\n",
       st.virtual_s, st.wall_s, 1e3 * st.max_lag_s, static_cast<unsigned long long>(st.late_ticks));
-  std::fputs(monitor::node_counters_table(e.node_ids(), monitor::all_node_counters(e)).c_str(),
-             stdout);
+  const auto counters = monitor::all_node_counters(e);
+  std::fputs(monitor::node_counters_table(e.node_ids(), counters).c_str(), stdout);
+  std::fputs(monitor::node_counters_legend(counters).c_str(), stdout);
   std::fflush(stdout);
 }
 

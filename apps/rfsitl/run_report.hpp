@@ -19,8 +19,12 @@
 namespace rfsitl::app {
 
 /// The scenario's line and one line per node: transceiver, ports, where it is.
+/// `served_by`: for each node another rank serves, that rank ("rank 1 on
+/// host-b"), whose host its ports are on; empty for this process's nodes (or
+/// an empty vector in a run of one process).
 void print_banner(const scenario::Scenario& s, const agent_port::NetPortsConfig& ports,
-                  const LiveSources& sources, const engine::Engine& engine);
+                  const LiveSources& sources, const engine::Engine& engine,
+                  const std::vector<std::string>& served_by);
 
 /// Each node's namespace, interface and addresses, and a ping to try.
 void print_ip_banner(const std::vector<agent_port::IpNodeInfo>& nodes);

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "rfsitl/channel/geodesy.hpp"
-#include "rfsitl/position/mobility/mobility_component.hpp"
+#include "rfsitl/scenario/mobility_of.hpp"
 
 namespace rfsitl::engine {
 
@@ -22,20 +22,11 @@ MobilityDriver::MobilityDriver(const scenario::Scenario& s)
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const auto& m = s.nodes[i].mobility;
     if (!m) continue;
-    const auto* component = position::mobility::find_mobility(m->type);
     const std::string who = "node " + std::to_string(s.nodes[i].id) + " mobility " + m->type;
-    if (component == nullptr) throw std::invalid_argument(who + ": unknown model");
-    position::mobility::MobilityContext context;
-    context.node = s.nodes[i].id;
-    context.scenario_seed = s.seed;
-    context.origin = s.channel.origin;
-    if (const auto& p = s.nodes[i].initial_position) {
-      if (const auto* local = std::get_if<LocalPosition>(&*p)) context.start = *local;
-    }
-    context.base_dir = s.source_dir;
-    context.warn = [who](const std::string& line) { spdlog::warn("{}: {}", who, line); };
     try {
-      moving_.push_back({i, component->make(m->settings, context)});
+      moving_.push_back({i, scenario::make_mobility(s, i, [who](const std::string& line) {
+                           spdlog::warn("{}: {}", who, line);
+                         })});
     } catch (const std::exception& e) {
       throw std::invalid_argument(who + ": " + e.what());
     }

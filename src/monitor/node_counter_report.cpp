@@ -20,6 +20,19 @@ const std::array<std::uint64_t, engine::kNumLossReasons>& reasons_of(const NodeC
   return c.*f.by_reason;
 }
 
+/// The fields the end-of-run table shows: all but those hidden while zero.
+std::vector<const NodeCounterField*> table_fields(std::span<const Snapshot> c) {
+  std::vector<const NodeCounterField*> shown;
+  for (const NodeCounterField& f : kNodeCounterFields) {
+    if (f.table_hides_zero &&
+        std::all_of(c.begin(), c.end(), [&f](const Snapshot& s) { return f.read(s) == 0; })) {
+      continue;
+    }
+    shown.push_back(&f);
+  }
+  return shown;
+}
+
 }  // namespace
 
 std::vector<Snapshot> all_node_counters(engine::Engine& e) {
@@ -73,17 +86,13 @@ std::string node_counters_table(std::span<const NodeId> ids, std::span<const Sna
     std::size_t reason;  // by-reason fields only
   };
   std::vector<Column> columns;
-  for (const NodeCounterField& f : kNodeCounterFields) {
-    if (f.table_hides_zero &&
-        std::all_of(c.begin(), c.end(), [&f](const Snapshot& s) { return f.read(s) == 0; })) {
-      continue;
-    }
-    if (f.by_reason == nullptr) {
-      columns.push_back({std::string(f.column), &f, 0});
+  for (const NodeCounterField* f : table_fields(c)) {
+    if (f->by_reason == nullptr) {
+      columns.push_back({std::string(f->column), f, 0});
       continue;
     }
     for (std::size_t r = 0; r < kLossReasons.size(); ++r) {
-      columns.push_back({std::string(f.column) + ":" + std::string(kLossReasons[r].column), &f, r});
+      columns.push_back({std::string(f->column) + ":" + std::string(kLossReasons[r].column), f, r});
     }
   }
   const auto width = [](const Column& col) {
@@ -109,6 +118,27 @@ std::string node_counters_table(std::span<const NodeId> ids, std::span<const Sna
       out += buf;
     }
     out += '\n';
+  }
+  return out;
+}
+
+std::string node_counters_legend(std::span<const Snapshot> c) {
+  std::string out = "columns:\n";
+  for (const NodeCounterField* f : table_fields(c)) {
+    std::string title(f->column);
+    std::string help(f->help);
+    if (f->by_reason != nullptr) {
+      title += ":R";
+      help += " R:";
+      for (std::size_t r = 0; r < kLossReasons.size(); ++r) {
+        help += std::string(r == 0 ? " " : ", ") + std::string(kLossReasons[r].column) + " " +
+                std::string(kLossReasons[r].label);
+      }
+      help += ".";
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "  %-14s ", title.c_str());
+    out += buf + help + "\n";
   }
   return out;
 }

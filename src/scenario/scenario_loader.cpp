@@ -34,6 +34,7 @@
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
+#include "rfsitl/scenario/mobility_of.hpp"
 #include "scenario_rules.hpp"
 #include "yaml_reading.hpp"
 
@@ -80,6 +81,7 @@ void read_time(Context& c, const Entry& at, TimingConfig& t) {
     const std::string m = text(c, mode);
     c.check_name(m, mode.key, kTimeModes);
     t.mode = m == "virtual" ? TimeMode::kVirtual : TimeMode::kRealTime;
+    t.mode_given_at = c.where(mode.key);
   }
   sec.get("speed", t.speed);
   sec.get("sample_rate_hz", t.sample_rate_hz);
@@ -316,6 +318,25 @@ void check_stage_files(const Scenario& s, const Context& c) {
   }
 }
 
+// The same for mobility models, whose traces are files too.
+void check_mobility_files(const Scenario& s, const Context& c) {
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    if (!s.nodes[i].mobility) continue;
+    try {
+      (void)make_mobility(s, i, {});
+    } catch (const std::exception& e) {
+      c.fail("nodes[" + std::to_string(i) + "].mobility", e.what());
+    }
+  }
+}
+
+// The number of the text's last line: a final newline ends that line, it
+// does not start another.
+int last_line(std::string_view text) {
+  const auto newlines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  return std::max(1, text.empty() || text.back() == '\n' ? newlines : newlines + 1);
+}
+
 Scenario parse_in(std::string_view yaml_text, const std::string& source,
                   const std::string& source_dir) {
   YAML::Node root;
@@ -323,14 +344,22 @@ Scenario parse_in(std::string_view yaml_text, const std::string& source,
     root = YAML::Load(std::string(yaml_text));
   } catch (const YAML::Exception& e) {
     const bool marked = !e.mark.is_null();
-    throw make_error(source, marked ? e.mark.line + 1 : 0, "YAML syntax",
-                     e.msg + (marked ? " (column " + std::to_string(e.mark.column + 1) + ")" : ""));
+    // An error found only at the end of the text (a flow `{` or `[` never
+    // closed) is marked after its last line: point at the last line instead.
+    const int last = last_line(yaml_text);
+    const int line = marked ? std::min(e.mark.line + 1, last) : 0;
+    const std::string where = !marked ? ""
+                              : e.mark.line + 1 > last
+                                  ? " (at the end of the file)"
+                                  : " (column " + std::to_string(e.mark.column + 1) + ")";
+    throw make_error(source, line, "YAML syntax", e.msg + where);
   }
   Context context(source);
   Scenario s = read_scenario(context, root);
   s.source_dir = source_dir;
   validate(s, context);
   check_stage_files(s, context);
+  check_mobility_files(s, context);
   return s;
 }
 
@@ -357,7 +386,10 @@ Scenario load_scenario_file(const std::string& path) {
     }
   }
   if (std::ferror(file.get())) throw unreadable();  // e.g. a directory: EISDIR
-  return parse_in(contents, path, std::filesystem::path(path).parent_path().string());
+  // Absolute, so that a data file that cannot be read is named by the path
+  // really tried, wherever the user ran the command from.
+  return parse_in(contents, path,
+                  std::filesystem::absolute(path).lexically_normal().parent_path().string());
 }
 
 void validate_scenario(const Scenario& s) {

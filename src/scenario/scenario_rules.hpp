@@ -113,6 +113,12 @@ class Context {
       key.resize(cut == std::string::npos ? 0 : cut);  // "" is the whole document
     }
   }
+  /// "<source>:<line>" of `key` (or of the closest enclosing key that has a
+  /// line), or "<source>" when none has: a flag's name, "scenario".
+  std::string where(const std::string& key) const {
+    const int l = line(key);
+    return l > 0 ? source_ + ":" + std::to_string(l) : source_;
+  }
   [[noreturn]] void fail(const std::string& key, std::string_view reason) const {
     throw make_error(source_, line(key), key, reason);
   }

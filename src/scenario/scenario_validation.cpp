@@ -133,10 +133,7 @@ void check_source(const Context& c, const Scenario& s, const PositionSourceChoic
     c.fail(e.key().empty() ? key : key + "." + e.key(), e.what());
   }
   if (component->wall_clock && s.timing.mode == TimeMode::kVirtual) {
-    c.fail(key + ".source", p.type +
-                                " follows live vehicles on the wall clock, which virtual "
-                                "time cannot (use time.mode realtime; time.speed may match the "
-                                "simulator's speed-up)");
+    c.fail(key + ".source", p.type + " " + scenario::wall_clock_conflict(s.timing));
   }
 }
 
@@ -329,3 +326,16 @@ void validate(const Scenario& s, const Context& c) {
 }
 
 }  // namespace rfsitl::scenario::detail
+
+namespace rfsitl::scenario {
+
+std::string wall_clock_conflict(const TimingConfig& t) {
+  const std::string at = t.mode_given_at.empty() ? "" : " at " + t.mode_given_at;
+  return "follows live vehicles on the wall clock, which virtual time cannot (time.mode "
+         "virtual" +
+         at +
+         "; use time.mode realtime or --mode realtime, and time.speed to match "
+         "the simulator's speed-up)";
+}
+
+}  // namespace rfsitl::scenario

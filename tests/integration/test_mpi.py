@@ -152,6 +152,16 @@ class MpiTest(unittest.TestCase):
                     # Something crossed between the ranks.
                     self.assertTrue(all(p["exchanged_bytes"] > 0
                                         for p in many["distributed"]["per_rank"]))
+                    # The banner puts each node's ports on its own rank's host.
+                    owners = many["distributed"]["owner_rank"]
+                    for node, owner in zip(many["nodes"], owners):
+                        line = re.search(rf"^  node +{node['id']}: .*$", r.stdout, re.M)
+                        self.assertIsNotNone(line, r.stdout[-3000:])
+                        self.assertNotIn("another rank", line.group(0))
+                        if owner:
+                            self.assertIn(f" on rank {owner} ", line.group(0))
+                        else:
+                            self.assertIn("location 127.0.0.1:", line.group(0))
 
     def test_ranks_with_different_scenarios_are_refused(self):
         with tempfile.TemporaryDirectory() as d:

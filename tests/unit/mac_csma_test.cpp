@@ -2,6 +2,10 @@
 // decodes played by the test, tick by tick.
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <set>
+#include <vector>
+
 #include "fake_frame_queue.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
 
@@ -14,7 +18,8 @@ using FakeQueue = testing::FakeFrameQueue;
 
 /// One node's csma MAC, its counters and its queue; time advances a tick per step.
 struct Station {
-  explicit Station(config::Settings settings = find_mac("csma")->info.defaults(), NodeId id = 1) {
+  explicit Station(config::Settings settings = find_mac("csma")->info.defaults(), NodeId id = 1,
+                   std::uint64_t seed = 0) {
     MacContext c;
     c.id = id;
     c.sample_rate_hz = 1e6;
@@ -22,7 +27,7 @@ struct Station {
     c.radio_max_payload = 2048;
     c.frame_samples = [](std::size_t bytes) { return 200 + 10 * bytes; };
     c.rx_latency_samples = 20;
-    c.seed = 7 + id;
+    c.seed = seed * 1000 + 7 + id;
     c.counters = &counters;
     mac = find_mac("csma")->make(settings, c);
   }
@@ -30,6 +35,13 @@ struct Station {
   /// One tick: the MAC decides, the transmission (if any) lasts its air time,
   /// then carrier sense reports `busy` (or the node's own transmission).
   std::optional<MacTransmission> step(bool busy = false) {
+    auto send = decide();
+    sense(busy);
+    return send;
+  }
+
+  /// The first half of a tick: the MAC decides, and a transmission starts.
+  std::optional<MacTransmission> decide() {
     const bool tx_busy = now < tx_end;
     auto send = mac->on_tick(now, tx_busy, queue);
     if (send) {
@@ -42,10 +54,17 @@ struct Station {
       sent.push_back({*send, {send->header.begin(), send->header.end()}, now});
     }
     verdicts.push_back(mac->take_verdict());
-    mac->on_sensed(busy || now < tx_end);
-    now += kTick;
     return send;
   }
+
+  /// The second half: carrier sense over the tick, and time moves on.
+  void sense(bool busy) {
+    mac->on_sensed(busy || now < tx_end);
+    now += kTick;
+  }
+
+  /// Transmitting during the current tick.
+  bool on_air() const { return now < tx_end; }
 
   /// Steps until the MAC sends (at most `limit` ticks); nullopt if it never does.
   std::optional<MacTransmission> step_until_send(std::size_t limit, bool busy = false) {
@@ -82,16 +101,101 @@ config::Settings csma_with(std::string_view key, config::Value v) {
   return s;
 }
 
-TEST(CsmaMac, WaitsForDifsOfIdleChannelBeforeItsFirstFrame) {
+// Defaults at these ticks: slot 250 us = 3 ticks, SIFS 3 ticks, DIFS 9 ticks,
+// backoffs of a first attempt 0..15 slots.
+constexpr SampleTime kDifsTicks = 9;
+constexpr SampleTime kSlotTicks = 3;
+
+TEST(CsmaMac, ItsFirstFrameWaitsForDifsAndABackoff) {
+  // Over many seeds: never before DIFS, on a slot boundary after it, and the
+  // backoff drawn (not always 0) from 0..cw_min slots.
+  std::set<SampleTime> backoffs;
+  for (std::uint64_t seed = 0; seed < 64; ++seed) {
+    Station st(find_mac("csma")->info.defaults(), 1, seed);
+    st.queue.frames.push_back(NetFrame{1, kBroadcastId, {1, 2, 3}});
+    const auto send = st.step_until_send(100);
+    ASSERT_TRUE(send);
+    const SampleTime tick = (st.now - kTick) / static_cast<SampleTime>(kTick);
+    ASSERT_GE(tick, kDifsTicks);
+    ASSERT_EQ((tick - kDifsTicks) % kSlotTicks, 0);
+    backoffs.insert((tick - kDifsTicks) / kSlotTicks);
+    EXPECT_EQ(send->dst, kBroadcastId);
+    EXPECT_FALSE(send->awaits_verdict);  // broadcasts are not acknowledged
+    EXPECT_EQ(send->header.size(), st.mac->header_bytes());
+  }
+  EXPECT_LE(*backoffs.rbegin(), 15);
+  EXPECT_GE(backoffs.size(), 8U);  // 64 draws from 16 values
+}
+
+TEST(CsmaMac, AFrameArrivingToAnIdleChannelGoesAtOnce) {
   Station st;
-  st.queue.frames.push_back(NetFrame{1, kBroadcastId, {1, 2, 3}});
-  // Defaults at these ticks: slot 250 us = 3 ticks, SIFS 3 ticks, DIFS 9 ticks.
-  const auto send = st.step_until_send(50);
-  ASSERT_TRUE(send);
-  EXPECT_EQ(st.now - kTick, 9 * static_cast<SampleTime>(kTick));
-  EXPECT_EQ(send->dst, kBroadcastId);
-  EXPECT_FALSE(send->awaits_verdict);  // broadcasts are not acknowledged
-  EXPECT_EQ(send->header.size(), st.mac->header_bytes());
+  st.queue.frames.push_back(NetFrame{1, kBroadcastId, {1}});
+  ASSERT_TRUE(st.step_until_send(100));
+  // Long after the post-backoff ended: the next frame goes in the tick it arrives.
+  for (int i = 0; i < 200; ++i) ASSERT_FALSE(st.step());
+  st.queue.frames.push_back(NetFrame{1, kBroadcastId, {2}});
+  EXPECT_TRUE(st.step());
+}
+
+TEST(CsmaMac, AFrameThatFindsTheChannelBusyDrawsABackoff) {
+  // Today's DCF: were no backoff drawn, every such frame would go exactly
+  // DIFS after the busy period, on every node at once.
+  std::set<SampleTime> waits;
+  for (std::uint64_t seed = 0; seed < 64; ++seed) {
+    Station st(find_mac("csma")->info.defaults(), 1, seed);
+    st.queue.frames.push_back(NetFrame{1, kBroadcastId, {1}});
+    ASSERT_TRUE(st.step_until_send(100));
+    for (int i = 0; i < 200; ++i) ASSERT_FALSE(st.step());      // the post-backoff is over
+    ASSERT_FALSE(st.step(/*busy=*/true));                       // someone else sends
+    st.queue.frames.push_back(NetFrame{1, kBroadcastId, {2}});  // and finds it busy
+    for (int i = 0; i < 10; ++i) ASSERT_FALSE(st.step(true));
+    const SampleTime idle_from = st.now;
+    ASSERT_TRUE(st.step_until_send(100));
+    const SampleTime wait = (st.now - kTick - idle_from) / static_cast<SampleTime>(kTick);
+    ASSERT_GE(wait, kDifsTicks);
+    waits.insert(wait);
+  }
+  EXPECT_GE(waits.size(), 8U);
+}
+
+/// Three stations on one channel, each hearing the others' transmissions (and
+/// `busy_ticks` of someone else's at the start), each with one broadcast
+/// queued at tick 0. True when two of their first transmissions start in the
+/// same tick.
+bool first_frames_collide(std::uint64_t seed, std::size_t busy_ticks) {
+  std::vector<std::unique_ptr<Station>> stations;
+  for (NodeId id = 1; id <= 3; ++id) {
+    stations.push_back(std::make_unique<Station>(find_mac("csma")->info.defaults(), id, seed));
+    stations.back()->queue.frames.push_back(NetFrame{id, kBroadcastId, {1}});
+  }
+  std::vector<SampleTime> starts(stations.size(), -1);
+  for (std::size_t t = 0; t < 1000; ++t) {
+    for (std::size_t i = 0; i < stations.size(); ++i) {
+      if (stations[i]->decide() && starts[i] < 0) starts[i] = static_cast<SampleTime>(t);
+    }
+    for (std::size_t i = 0; i < stations.size(); ++i) {
+      bool others = t < busy_ticks;
+      for (std::size_t j = 0; j < stations.size(); ++j) others |= j != i && stations[j]->on_air();
+      stations[i]->sense(others);
+    }
+  }
+  for (const SampleTime s : starts) EXPECT_GE(s, 0) << "seed " << seed;
+  return starts[0] == starts[1] || starts[0] == starts[2] || starts[1] == starts[2];
+}
+
+TEST(CsmaMac, StationsThatComeUpTogetherRarelyStartTogether) {
+  // Backoffs of 0..15 slots: two of three equal with probability 1 - 16 15 14
+  // / 16^3 = 18 %. Without the first frame's backoff they always would.
+  int collisions = 0;
+  for (std::uint64_t seed = 0; seed < 200; ++seed) collisions += first_frames_collide(seed, 0);
+  EXPECT_LT(collisions, 60);  // 200 x 18 % = 36
+  EXPECT_GT(collisions, 10);  // the draw is random, not a fixed order
+}
+
+TEST(CsmaMac, StationsThatQueuedDuringABusyChannelRarelyStartTogether) {
+  int collisions = 0;
+  for (std::uint64_t seed = 0; seed < 200; ++seed) collisions += first_frames_collide(seed, 40);
+  EXPECT_LT(collisions, 60);
 }
 
 TEST(CsmaMac, NeverSendsWhileTheChannelIsBusy) {
@@ -99,8 +203,8 @@ TEST(CsmaMac, NeverSendsWhileTheChannelIsBusy) {
   st.queue.frames.push_back(NetFrame{1, 2, {1}});
   EXPECT_FALSE(st.step_until_send(500, /*busy=*/true));
   EXPECT_EQ(st.counters.busy_ticks.load(), 500U);
-  // Idle again: DIFS later it goes.
-  EXPECT_TRUE(st.step_until_send(50));
+  // Idle again: DIFS and a backoff (at most 15 slots) later it goes.
+  EXPECT_TRUE(st.step_until_send(kDifsTicks + 15 * kSlotTicks + 1));
 }
 
 TEST(CsmaMac, AnAcknowledgedFrameEndsWithItsVerdictAndABackoff) {

@@ -96,9 +96,10 @@ TEST(MavlinkParser, BadCrcFrameIsDroppedAndTheNextFrameFound) {
   ASSERT_EQ(r.messages.size(), 1U);
   EXPECT_EQ(custom_mode_of(r.messages[0]), 2U);
   EXPECT_EQ(r.counters.bad_crc, 1U);
-  // The rejected candidate's bytes were rescanned: all of them (its magic byte
-  // included) are garbage.
-  EXPECT_EQ(r.counters.garbage_bytes, corrupt.size());
+  // The rejected candidate's bytes were rescanned and hold no frame: all of
+  // them (its magic byte included) are the rejected frame's, none garbage.
+  EXPECT_EQ(r.counters.rejected_bytes, corrupt.size());
+  EXPECT_EQ(r.counters.garbage_bytes, 0U);
 }
 
 TEST(MavlinkParser, AFrameCutShortDoesNotHideTheNextOne) {
@@ -111,7 +112,8 @@ TEST(MavlinkParser, AFrameCutShortDoesNotHideTheNextOne) {
   EXPECT_EQ(custom_mode_of(r.messages[0]), 2U);
   EXPECT_EQ(custom_mode_of(r.messages[1]), 3U);
   EXPECT_EQ(r.counters.bad_crc, 1U);
-  EXPECT_EQ(r.counters.garbage_bytes, cut.size());
+  EXPECT_EQ(r.counters.rejected_bytes, cut.size());
+  EXPECT_EQ(r.counters.garbage_bytes, 0U);
 }
 
 TEST(MavlinkParser, FrameInsideAFalseCandidateIsFound) {
@@ -125,7 +127,9 @@ TEST(MavlinkParser, FrameInsideAFalseCandidateIsFound) {
   EXPECT_EQ(custom_mode_of(r.messages[0]), 7U);
   EXPECT_EQ(custom_mode_of(r.messages[1]), 8U);
   EXPECT_EQ(r.counters.bad_crc, 1U);
-  EXPECT_EQ(r.counters.garbage_bytes, fake_header.size() + padding.size());
+  // The candidate claimed all of the padding too.
+  EXPECT_EQ(r.counters.rejected_bytes, fake_header.size() + padding.size());
+  EXPECT_EQ(r.counters.garbage_bytes, 0U);
 }
 
 TEST(MavlinkParser, V1AndV2MixedInOneStreamKeepTheirFrameInfo) {
@@ -224,7 +228,8 @@ TEST(MavlinkParser, UnknownIncompatFlagsDropTheFrame) {
   ASSERT_EQ(r.messages.size(), 1U);
   EXPECT_EQ(custom_mode_of(r.messages[0]), 2U);
   EXPECT_EQ(r.counters.bad_incompat_flags, 1U);
-  EXPECT_EQ(r.counters.garbage_bytes, flagged.size());
+  EXPECT_EQ(r.counters.rejected_bytes, flagged.size());
+  EXPECT_EQ(r.counters.garbage_bytes, 0U);
 }
 
 TEST(MavlinkParser, KnownButUndecodedMessageKeepsItsPayload) {

@@ -108,7 +108,8 @@ inline Parsed parse(const Bytes& stream, std::size_t chunk = 0) {
     pos += n;
     EXPECT_LE(parser.buffered(), kMaxFrameBytes);
     const ParserCounters& c = parser.counters();
-    EXPECT_EQ(pos, c.frame_bytes + c.unknown_id_bytes + c.garbage_bytes + parser.buffered())
+    EXPECT_EQ(pos, c.frame_bytes + c.unknown_id_bytes + c.rejected_bytes + c.garbage_bytes +
+                       parser.buffered())
         << "every byte fed is in a frame, an unknown-id frame, garbage or the buffer";
   }
   out.counters = parser.counters();

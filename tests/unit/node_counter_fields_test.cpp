@@ -180,6 +180,42 @@ TEST(NodeCounterFields, TheTableLeavesOutMacColumnsThatAreZeroEverywhere) {
   EXPECT_EQ(with.size(), without.size() + 1);
 }
 
+TEST(NodeCounterFields, TheLegendExplainsEveryColumnTheTableShows) {
+  const std::vector<NodeId> ids = {7, 8};
+  engine::NodeCountersSnapshot one_retry;
+  one_retry.mac.retries = 1;
+  const std::vector<engine::NodeCountersSnapshot> c = {{}, one_retry};
+  std::istringstream head(lines_of(node_counters_table(ids, c))[0]);
+  std::vector<std::string> titles;
+  for (std::string t; head >> t;) titles.push_back(t);
+  const auto legend = lines_of(node_counters_legend(c));
+  ASSERT_FALSE(legend.empty());
+  EXPECT_EQ(legend[0], "columns:");
+  // Each line: its title (by-reason fields once, as "lost:R"), then the help.
+  std::vector<std::string> explained;
+  for (std::size_t i = 1; i < legend.size(); ++i) {
+    std::istringstream line(legend[i]);
+    std::string title;
+    line >> title;
+    explained.push_back(title);
+    EXPECT_GT(legend[i].size(), title.size() + 10) << legend[i];  // some words of help
+  }
+  for (std::size_t i = 1; i < titles.size(); ++i) {  // titles[0] is "node"
+    const std::string& t = titles[i];
+    const std::string field = t.substr(0, t.find(':'));
+    const std::string named = t.find(':') == std::string::npos ? t : field + ":R";
+    EXPECT_EQ(std::count(explained.begin(), explained.end(), named), 1) << t;
+  }
+  // The reasons' short names are spelled out.
+  const std::string all = node_counters_legend(c);
+  for (const auto& r : kLossReasons) {
+    EXPECT_NE(all.find(std::string(r.column) + " " + std::string(r.label)), std::string::npos)
+        << r.column;
+  }
+  // Hidden columns are not explained: the MAC's other counters are all zero.
+  EXPECT_EQ(std::count(explained.begin(), explained.end(), "ack-to"), 0);
+}
+
 TEST(NodeCounterFields, StatsJsonAndMetricsOfARunCarryEveryField) {
   const auto s = test::two_nodes();
   test::NullSink sink;

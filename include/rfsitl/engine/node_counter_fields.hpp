@@ -77,9 +77,11 @@ inline constexpr std::array kNodeCounterFields{
     NodeCounterField{"transmitted", "rfsitl_frames_transmitted_total", CounterKind::kCounter,
                      "Frames that went on the air.", "transmitted", "tx",
                      read_member<&NodeCountersSnapshot::transmitted>},
-    NodeCounterField{"delivered", "rfsitl_frames_delivered_total", CounterKind::kCounter,
-                     "Own frames that reached their destination.", "delivered", "delivered",
-                     read_member<&NodeCountersSnapshot::delivered>},
+    NodeCounterField{
+        "delivered", "rfsitl_frames_delivered_total", CounterKind::kCounter,
+        "Own frames that reached their destination: decoded by its receiver (whether its agent "
+        "took them is the destination's to-agent-drop).",
+        "delivered", "delivered", read_member<&NodeCountersSnapshot::delivered>},
     NodeCounterField{"lost", "rfsitl_frames_lost_total", CounterKind::kCounter,
                      "Own frames lost on the air, by reason.", "lost (own frames)", "lost",
                      [](const NodeCountersSnapshot& s) { return s.lost_total(); },
@@ -99,7 +101,8 @@ inline constexpr std::array kNodeCounterFields{
                      read_member<&NodeCountersSnapshot::rx_crc_failures>},
     NodeCounterField{
         "to_agent_dropped", "rfsitl_frames_to_agent_dropped_total", CounterKind::kCounter,
-        "Frames decoded for the node but not handed to its agent (none connected, backlog).",
+        "Frames decoded for the node but not handed to its agent (none connected, backlog); "
+        "their senders count them as delivered: the radio link worked.",
         "to agent dropped", "to-agent-drop", read_member<&NodeCountersSnapshot::to_agent_dropped>},
     NodeCounterField{"framing_errors", "rfsitl_framing_errors_total", CounterKind::kCounter,
                      "Net-port frames refused (oversized or too short).", "framing errors",

@@ -34,6 +34,11 @@ void write_node_counter_metrics(std::ostream& o, std::span<const NodeId> ids,
 std::string node_counters_table(std::span<const NodeId> ids,
                                 std::span<const engine::NodeCountersSnapshot> c);
 
+/// What the table's columns mean: "columns:", then one line per field the
+/// table shows for `c` ("  in             Frames the agent handed in."),
+/// by-reason fields as "lost:R" with every reason's column and label.
+std::string node_counters_legend(std::span<const engine::NodeCountersSnapshot> c);
+
 /// The field list for viewers (the dashboard's hello): [{key, label, help,
 /// kind}, ...] in order; by-reason fields add reasons: [{key, label, help}].
 nlohmann::json node_counter_fields_json();

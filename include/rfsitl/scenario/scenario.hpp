@@ -147,6 +147,9 @@ enum class TimeMode { kRealTime, kVirtual };
 
 struct TimingConfig {
   TimeMode mode = TimeMode::kRealTime;
+  /// Where `mode` was given ("six_uav.yaml:4", "--mode"); empty: the default.
+  /// Errors about a mode that does not fit something else point there.
+  std::string mode_given_at;
   double speed = 1.0;                ///< virtual seconds per wall second (real-time mode)
   double sample_rate_hz = 1e6;       ///< fs
   std::uint32_t tick_samples = 250;  ///< B

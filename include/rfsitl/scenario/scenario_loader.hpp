@@ -27,6 +27,13 @@ Scenario load_scenario_file(const std::string& path);
 /// ScenarioError with source "scenario".
 void validate_scenario(const Scenario& s);
 
+/// The reason a component that follows the wall clock (a live position
+/// source) cannot run in `t`'s virtual time, naming where the mode was given:
+/// "follows live vehicles on the wall clock, which virtual time cannot
+/// (time.mode virtual at mob.yaml:3; ...)". For errors that start with the
+/// component's name or the flag that chose it.
+std::string wall_clock_conflict(const TimingConfig& t);
+
 /// Sets one setting as if the file had said `dotted_key: value` (e.g.
 /// "channel.noise_power_db", "400"), with the file's rules for its type and
 /// range, then validates the whole scenario. Errors read "<source>: <key>:

@@ -2,12 +2,18 @@
 // engine's ticks. A node listens with its own receiver (the engine reports,
 // every tick, whether its receiver was inside a frame or heard energy over the
 // threshold), waits until the channel has been idle for DIFS, then counts down
-// a random backoff of idle slots, frozen while the channel is busy. Unicast
-// frames are acknowledged after SIFS; without an ACK the frame is sent again
-// with the contention window doubled, up to the retry limit. Receivers drop
-// repeats by sequence number (and acknowledge them again). Broadcasts are sent
-// once, without ACK. Every transmission is followed by a fresh backoff (the
-// "post-backoff"), so a saturated node contends for every frame, as in
+// a random backoff of idle slots, frozen while the channel is busy. As in
+// 802.11's DCF, a frame that arrives to an idle channel (idle for DIFS at
+// least, no backoff pending) goes at once; one that finds the channel busy, or
+// idle for less than DIFS, draws a backoff first, so nodes whose frames queued
+// up during the same busy period do not all start when it ends. The first frame
+// after start draws one too: interfaces that come up together (IPv6 duplicate
+// address detection, router solicitations) would otherwise send together.
+// Unicast frames are acknowledged after SIFS; without an ACK the frame is sent
+// again with the contention window doubled, up to the retry limit. Receivers
+// drop repeats by sequence number (and acknowledge them again). Broadcasts are
+// sent once, without ACK. Every transmission is followed by a fresh backoff
+// (the "post-backoff"), so a saturated node contends for every frame, as in
 // Bianchi's model. RTS/CTS is not implemented.
 #include <algorithm>
 #include <array>
@@ -98,6 +104,8 @@ class CsmaMac final : public Mac {
       current_ = queue.take();
       attempts_ = 0;
       ++seq_;
+      if (backoff_ == 0 && (!sent_any_ || idle_ticks_ < difs_)) draw_backoff();
+      sent_any_ = true;
     }
     if (backoff_ > 0 || idle_ticks_ < difs_) return std::nullopt;
     ++attempts_;
@@ -227,6 +235,7 @@ class CsmaMac final : public Mac {
   std::size_t ack_samples_;
   std::uint32_t cw_;
   std::uint32_t backoff_ = 0;  // slots left
+  bool sent_any_ = false;      // a frame was taken since start (the first draws a backoff)
   std::size_t idle_ticks_ = 0;
   Xoshiro256 rng_;
 

@@ -74,7 +74,7 @@ std::size_t MavlinkParser::feed(std::span<const std::uint8_t> bytes,
     if (!fill(header_bytes(buf_[0]), bytes)) break;
     const Header h = read_header(buf_.data());
     if ((h.incompat & ~kIncompatSigned) != 0) {
-      reject(counters_.bad_incompat_flags);
+      reject(counters_.bad_incompat_flags, h.frame_bytes());
       continue;
     }
     const MessageSpec* spec = find_message_spec(h.msgid);
@@ -86,7 +86,7 @@ std::size_t MavlinkParser::feed(std::span<const std::uint8_t> bytes,
       continue;
     }
     if (!h.v2 && h.payload_bytes != spec->base_length) {
-      reject(counters_.bad_length);
+      reject(counters_.bad_length, h.frame_bytes());
       continue;
     }
     if (!fill(h.frame_bytes(), bytes)) break;
@@ -96,7 +96,7 @@ std::size_t MavlinkParser::feed(std::span<const std::uint8_t> bytes,
         frame_checksum(std::span<const std::uint8_t>(buf_).subspan(1, crc_at - 1), spec->crc_extra);
     const auto received = static_cast<std::uint16_t>(buf_[crc_at] | (buf_[crc_at + 1] << 8));
     if (received != expected) {
-      reject(counters_.bad_crc);
+      reject(counters_.bad_crc, h.frame_bytes());
       continue;
     }
     accept(frame_info(buf_.data(), h), h.header_bytes, h.frame_bytes(), out);
@@ -122,6 +122,7 @@ bool MavlinkParser::skip(std::span<const std::uint8_t>& in) noexcept {
   drop_front(from_buffer);
   const std::size_t from_input = std::min(skip_ - from_buffer, in.size());
   in = in.subspan(from_input);
+  consumed_ += from_input;
   skip_ -= from_buffer + from_input;
   counters_.unknown_id_bytes += from_buffer + from_input;
   return skip_ == 0;
@@ -132,13 +133,14 @@ bool MavlinkParser::find_magic(std::span<const std::uint8_t>& in) noexcept {
     const auto* start = buf_.data();
     const std::size_t garbage =
         static_cast<std::size_t>(std::find_if(start, start + len_, is_magic) - start);
-    counters_.garbage_bytes += garbage;
+    count_unused(garbage);
     drop_front(garbage);
     if (len_ > 0) return true;
   }
   const auto it = std::find_if(in.begin(), in.end(), is_magic);
   const auto garbage = static_cast<std::size_t>(it - in.begin());
-  counters_.garbage_bytes += garbage;
+  count_unused(garbage);
+  consumed_ += garbage;
   in = in.subspan(garbage);
   if (in.empty()) return false;
   buf_[0] = in[0];
@@ -158,20 +160,30 @@ bool MavlinkParser::fill(std::size_t want, std::span<const std::uint8_t>& in) no
   return len_ >= want;
 }
 
-void MavlinkParser::reject(std::uint64_t& reason) noexcept {
+void MavlinkParser::reject(std::uint64_t& reason, std::size_t frame_bytes) noexcept {
   ++reason;
-  ++counters_.garbage_bytes;
+  reject_end_ = std::max(reject_end_, consumed_ + frame_bytes);
+  count_unused(1);
   drop_front(1);
+}
+
+void MavlinkParser::count_unused(std::size_t n) noexcept {
+  const std::uint64_t left = reject_end_ > consumed_ ? reject_end_ - consumed_ : 0;
+  const std::uint64_t rejected = std::min<std::uint64_t>(n, left);
+  counters_.rejected_bytes += rejected;
+  counters_.garbage_bytes += n - rejected;
 }
 
 void MavlinkParser::drop_front(std::size_t n) noexcept {
   std::memmove(buf_.data(), buf_.data() + n, len_ - n);
   len_ -= n;
+  consumed_ += n;
 }
 
 void MavlinkParser::reset() noexcept {
   if (len_ > 0 || skip_ > 0) ++counters_.truncated;
-  counters_.garbage_bytes += len_;
+  count_unused(len_);
+  consumed_ += len_;
   len_ = 0;
   skip_ = 0;
 }

@@ -46,10 +46,14 @@ class NodeLink {
         endpoint_(std::move(endpoint)),
         epoch_(epoch),
         stale_after_s_(s.stale_after_s),
-        link_(VehicleLinkSettings{s.rate_hz, static_cast<std::uint8_t>(s.sysid), 191},
-              [this](const std::string& line) {
-                spdlog::warn("node {} mavlink {}: {}", id_, endpoint_.text(), line);
-              }),
+        link_(
+            VehicleLinkSettings{s.rate_hz, static_cast<std::uint8_t>(s.sysid), 191},
+            [this](const std::string& line) {
+              spdlog::warn("node {} mavlink {}: {}", id_, endpoint_.text(), line);
+            },
+            [this](const std::string& line) {
+              spdlog::info("node {} mavlink {}: {}", id_, endpoint_.text(), line);
+            }),
         timer_(io),
         backoff_(to_ms(kMavlinkReconnectFirstS), to_ms(kMavlinkReconnectMaxS)),
         tcp_(io),
@@ -107,6 +111,7 @@ class NodeLink {
                 {"bad_incompat_flags", v.parser.bad_incompat_flags},
                 {"truncated", v.parser.truncated},
                 {"garbage_bytes", v.parser.garbage_bytes},
+                {"rejected_bytes", v.parser.rejected_bytes},
                 {"unknown_id", v.parser.unknown_id},
                 {"heartbeats_sent", v.heartbeats_sent},
                 {"interval_requests", v.interval_requests},

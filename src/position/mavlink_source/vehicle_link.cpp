@@ -31,9 +31,11 @@ bool names_an_autopilot(const MessagePayload& p) {
 
 }  // namespace
 
-VehicleLink::VehicleLink(VehicleLinkSettings settings, std::function<void(const std::string&)> log)
+VehicleLink::VehicleLink(VehicleLinkSettings settings, std::function<void(const std::string&)> log,
+                         std::function<void(const std::string&)> info)
     : settings_(settings),
       log_(std::move(log)),
+      info_(std::move(info)),
       encoder_(settings.sysid != 0 ? settings.sysid : 1, settings.own_compid) {}
 
 void VehicleLink::connected(double now_s) {
@@ -76,7 +78,7 @@ bool VehicleLink::from_vehicle(const FrameInfo& f, const MessagePayload& p) {
       vehicle_ = f.sysid;
       // Onboard components share their vehicle's system id.
       encoder_ = MavlinkEncoder(f.sysid, settings_.own_compid, encoder_.next_seq());
-      if (log_) log_("following system " + std::to_string(f.sysid));
+      if (info_) info_("following system " + std::to_string(f.sysid));
     }
   }
   if (!vehicle_ || f.sysid != *vehicle_) {

@@ -19,7 +19,9 @@
 ///  - a v2 signature is skipped unchecked (the emulator is not a security boundary).
 /// After a dropped candidate (flags, length, checksum) scanning resumes at the
 /// byte after its magic byte, so a real frame that starts inside the rejected
-/// bytes is still found; only the magic byte itself counts as garbage.
+/// bytes is still found. The candidate's bytes that the rescan finds no frame
+/// in (up to the end its header gave) count as rejected bytes, not garbage: a
+/// corrupted frame is one bad_crc and its bytes, not also a run of garbage.
 /// Accepted v2 payloads shorter than the message (trailing zeros truncated by the
 /// sender) are zero-extended; longer ones (extensions newer than the catalog)
 /// are accepted and the unknown tail ignored.
@@ -50,15 +52,17 @@ inline constexpr std::size_t kMaxFrameBytes =
     kHeaderBytesV2 + 255 + kChecksumBytes + kSignatureBytes;
 
 /// What the parser did with the bytes it consumed. Every byte fed is counted in
-/// exactly one of frame_bytes, unknown_id_bytes and garbage_bytes once it has
-/// left the buffer, so at any time
-///   bytes fed == frame_bytes + unknown_id_bytes + garbage_bytes + buffered().
+/// exactly one of frame_bytes, unknown_id_bytes, rejected_bytes and
+/// garbage_bytes once it has left the buffer, so at any time
+///   bytes fed == frame_bytes + unknown_id_bytes + rejected_bytes + garbage_bytes
+///                + buffered().
 /// Frame counts are separate from byte counts.
 struct ParserCounters {
   std::uint64_t frames = 0;              ///< accepted frames (checksum good), decoded or not
   std::uint64_t frame_bytes = 0;         ///< their bytes, signatures included
-  std::uint64_t garbage_bytes = 0;       ///< outside any frame, magic bytes of dropped candidates,
-                                         ///< and partial frames discarded by reset()
+  std::uint64_t garbage_bytes = 0;       ///< outside any frame or candidate, and partial
+                                         ///< frames discarded by reset()
+  std::uint64_t rejected_bytes = 0;      ///< of dropped candidates (checksum, length, flags)
   std::uint64_t bad_crc = 0;             ///< candidates dropped for their checksum
   std::uint64_t unknown_id = 0;          ///< frames skipped because their id is not in the catalog
   std::uint64_t unknown_id_bytes = 0;    ///< their bytes
@@ -89,9 +93,13 @@ class MavlinkParser {
   void drop_front(std::size_t n) noexcept;
   // Copies input into the buffer until it holds `want` bytes; true when it does.
   bool fill(std::size_t want, std::span<const std::uint8_t>& in) noexcept;
-  // Rejects the candidate at the buffer's start: its magic byte is garbage, the
-  // rest is scanned again.
-  void reject(std::uint64_t& reason) noexcept;
+  // Rejects the candidate at the buffer's start, `frame_bytes` long by its
+  // header: its magic byte is dropped, the rest is scanned again.
+  void reject(std::uint64_t& reason, std::size_t frame_bytes) noexcept;
+  // Counts `n` bytes that leave the stream unused at stream offset consumed_:
+  // rejected while inside a dropped candidate, garbage beyond it. Does not
+  // move consumed_.
+  void count_unused(std::size_t n) noexcept;
   // Consumes what is left of an unknown-id frame being skipped; true when done.
   bool skip(std::span<const std::uint8_t>& in) noexcept;
   // Moves the buffer's start, else the input's, to the next magic byte; true
@@ -102,8 +110,10 @@ class MavlinkParser {
               std::vector<MavlinkMessage>& out);
 
   std::array<std::uint8_t, kMaxFrameBytes> buf_{};
-  std::size_t len_ = 0;   // buffered bytes; buf_[0] is a magic byte when a frame is underway
-  std::size_t skip_ = 0;  // bytes of an unknown-id frame still to skip
+  std::size_t len_ = 0;         // buffered bytes; buf_[0] is a magic byte when a frame is underway
+  std::size_t skip_ = 0;        // bytes of an unknown-id frame still to skip
+  std::uint64_t consumed_ = 0;  // stream offset of buf_[0]: bytes that left the parser
+  std::uint64_t reject_end_ = 0;  // stream offset where the last dropped candidate ends
   ParserCounters counters_;
 };
 

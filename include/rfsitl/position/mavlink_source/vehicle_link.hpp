@@ -67,9 +67,11 @@ class VehicleLink {
 
   /// `log` hears every problem worth a line (bad checksum, foreign system,
   /// impossible coordinate...), already rate-limited per reason: the first of
-  /// each kind, then at 10, 100, 1000 ... of it. May be empty.
+  /// each kind, then at 10, 100, 1000 ... of it. `info` hears what happens in
+  /// the normal case (which system it follows). Either may be empty.
   explicit VehicleLink(VehicleLinkSettings settings,
-                       std::function<void(const std::string&)> log = {});
+                       std::function<void(const std::string&)> log = {},
+                       std::function<void(const std::string&)> info = {});
 
   /// A connection (or a new UDP peer) is up: a partial frame from before is
   /// dropped, and the vehicle is greeted and asked for its stream again.
@@ -100,6 +102,7 @@ class VehicleLink {
 
   VehicleLinkSettings settings_;
   std::function<void(const std::string&)> log_;
+  std::function<void(const std::string&)> info_;
   mavlink::MavlinkParser parser_;
   mavlink::MavlinkEncoder encoder_;
   std::vector<mavlink::MavlinkMessage> messages_;
