@@ -27,6 +27,11 @@ w('net_framing', 'ping_80_bytes', hdr(0xF800, 3) + b'\x01\x02' + bytes(range(80)
 w('net_framing', 'oversized_resync', hdr(8, 1) + b'\x01\x02' + b'x' * 20 + T + b'\x03\x04ok' + T)
 w('net_framing', 'too_short_and_split_terminator', hdr(16, 9) + b'\x05' + T + b'\x01\x02ab\r\r' + b'\n\n')
 
+# agent_control: a net port's status reply as text
+w('agent_control', 'status_with_nodes', 'rfsitl status node=2 agent=0 max_payload=2048 nodes=1-4,9,254')
+w('agent_control', 'status_without_nodes', 'rfsitl status node=2 agent=1 max_payload=80')
+
+
 # ethernet_frame: [self id][node-id bitmap, 32 bytes][MTU u16 be][frame]
 def eth_hdr(self_id, ids, mtu):
     bitmap = bytearray(32)
