@@ -7,6 +7,7 @@
 ///  - formatting it and parsing that again gives the same status.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 #include "fuzz_check.hpp"
