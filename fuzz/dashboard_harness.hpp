@@ -39,6 +39,7 @@
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
+#include "rfsitl/monitor/link_table.hpp"
 #include "rfsitl/monitor/live_view.hpp"
 #include "rfsitl/monitor/position_request.hpp"
 #include "rfsitl/monitor/request_checks.hpp"
@@ -47,6 +48,7 @@
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/scenario.hpp"
+#include "viewer_messages.hpp"
 #include "web_assets.hpp"
 
 #define private public

@@ -27,6 +27,21 @@ w('net_framing', 'ping_80_bytes', hdr(0xF800, 3) + b'\x01\x02' + bytes(range(80)
 w('net_framing', 'oversized_resync', hdr(8, 1) + b'\x01\x02' + b'x' * 20 + T + b'\x03\x04ok' + T)
 w('net_framing', 'too_short_and_split_terminator', hdr(16, 9) + b'\x05' + T + b'\x01\x02ab\r\r' + b'\n\n')
 
+# agent_control: a net port's status reply as text
+w('agent_control', 'status_with_nodes', 'rfsitl status node=2 agent=0 max_payload=2048 nodes=1-4,9,254')
+w('agent_control', 'status_without_nodes', 'rfsitl status node=2 agent=1 max_payload=80')
+
+
+# link_table: [which: even = /api/links document, odd = query][text]
+w('link_table', 'document', b'\x00' + json.dumps({
+    'nodes': 2, 'payload_bytes': 80, 'noise_db': -90.0, 'links_total': 2,
+    'links': [{'tx': 1, 'rx': 2, 'distance_m': 50.0, 'gain_db': -74.4, 'snr_db': 15.6,
+               'per': 0.0, 'received': 12, 'lost': 0},
+              {'tx': 2, 'rx': 1, 'distance_m': None, 'gain_db': None, 'snr_db': None,
+               'per': None, 'received': 0, 'lost': 3}]}).encode())
+w('link_table', 'query', b'\x01payload=80&top=5&min_snr_db=-3.5')
+
+
 # ethernet_frame: [self id][node-id bitmap, 32 bytes][MTU u16 be][frame]
 def eth_hdr(self_id, ids, mtu):
     bitmap = bytearray(32)

@@ -16,9 +16,9 @@ seconds="${1:-10}"
 shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] ||
-  targets=(net_framing ethernet_frame location_parser scenario wire_protocol dashboard_http dashboard_ws
-           mavlink_parser vehicle_link mobility_trace antenna_pattern channel_trace tick_exchange
-           live_view_share)
+  targets=(net_framing agent_control ethernet_frame location_parser scenario wire_protocol
+           dashboard_http dashboard_ws mavlink_parser vehicle_link mobility_trace antenna_pattern
+           channel_trace tick_exchange live_view_share link_table)
 
 # clang-14 and libFuzzer (libclang_rt.fuzzer-x86_64.a comes with libclang-rt-14-dev
 # on Debian 12), plus the libraries the parsers build with.

@@ -11,6 +11,9 @@ std::function<int()> add_run_command(CLI::App& parent);
 /// Registers `rfsitl ping` on `parent`.
 std::function<int()> add_ping_command(CLI::App& parent);
 
+/// Registers `rfsitl links`: a running emulator's live link table.
+std::function<int()> add_links_command(CLI::App& parent);
+
 /// Registers `rfsitl describe`: the registered components and their settings.
 std::function<int()> add_describe_command(CLI::App& parent);
 

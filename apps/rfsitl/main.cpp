@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "rfsitl 0.1.0");
   auto run = rfsitl::app::add_run_command(app);
   auto ping = rfsitl::app::add_ping_command(app);
+  auto links = rfsitl::app::add_links_command(app);
   auto node = rfsitl::app::add_node_command(app);
   auto describe = rfsitl::app::add_describe_command(app);
   auto mavlink_send = rfsitl::app::add_mavlink_send_command(app);
@@ -27,7 +28,8 @@ int main(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* c) { return c->check_name(argv[1]); }).empty()) {
     std::cerr << "rfsitl: unknown command '" << argv[1]
-              << "' (commands: run, ping, describe, node, mavlink-send; see rfsitl --help)\n";
+              << "' (commands: run, ping, links, describe, node, mavlink-send; see rfsitl --help)
+";
     return 2;
   }
   try {
@@ -47,6 +49,7 @@ int main(int argc, char** argv) {
   }
   if (app.got_subcommand("run")) return run();
   if (app.got_subcommand("ping")) return ping();
+  if (app.got_subcommand("links")) return links();
   if (app.got_subcommand("node")) return node();
   if (app.got_subcommand("describe")) return describe();
   if (app.got_subcommand("mavlink-send")) return mavlink_send();

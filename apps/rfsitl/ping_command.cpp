@@ -18,9 +18,11 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -59,20 +61,25 @@ struct PingOptions {
 /// A TCP connection to one net port, with the framing parser for its stream.
 class AgentLink {
  public:
-  AgentLink(const std::string& host, std::uint16_t port, double timeout_s) : parser_(kMaxPayload) {
+  /// Connects to the first of `ports` that accepts, retrying all of them for
+  /// `timeout_s` (the emulator may still be starting); returns it and its
+  /// index in `ports`. Throws naming the last port's error when none did.
+  static std::pair<std::unique_ptr<AgentLink>, std::size_t> connect_first(
+      const std::string& host, std::span<const std::uint16_t> ports, double timeout_s) {
     const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
     std::string last_error;
-    while (fd_ < 0) {
-      fd_ = try_connect(host, port, last_error);
-      if (fd_ >= 0) break;
+    for (;;) {
+      for (std::size_t k = 0; k < ports.size(); ++k) {
+        if (const int fd = try_connect(host, ports[k], last_error); fd >= 0) {
+          return {std::unique_ptr<AgentLink>(new AgentLink(fd)), k};
+        }
+      }
       if (Clock::now() > deadline) {
-        throw std::runtime_error("cannot connect to net port " + host + ":" + std::to_string(port) +
-                                 ": " + last_error);
+        throw std::runtime_error("cannot connect to net port " + host + ":" +
+                                 std::to_string(ports.back()) + ": " + last_error);
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    const int one = 1;
-    setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
   }
   ~AgentLink() {
     if (fd_ >= 0) ::close(fd_);
@@ -92,18 +99,21 @@ class AgentLink {
     }
   }
 
-  /// Asks the emulator about this port (agent_control.hpp); nullopt when
-  /// nothing answers within `timeout_s` (a port an external program serves).
-  std::optional<io::PortStatus> status(double timeout_s) {
+  /// Asks the emulator about this port (agent_control.hpp), once per
+  /// connection (later calls return the first answer); nullopt when nothing
+  /// answers within `timeout_s` (a port an external program serves).
+  const std::optional<io::PortStatus>& status(double timeout_s) {
+    if (status_asked_) return status_;
+    status_asked_ = true;
     send(io::make_control_frame(io::kStatusRequest));
     const std::optional<NetFrame> reply = await_control(timeout_s);
-    if (!reply) return std::nullopt;
-    const auto st = io::parse_status_reply(io::control_text(*reply));
-    if (!st) {
+    if (!reply) return status_;
+    status_ = io::parse_status_reply(io::control_text(*reply));
+    if (!status_) {
       throw std::runtime_error("the emulator's net port answered the status request with '" +
                                std::string(io::control_text(*reply)) + "'");
     }
-    return st;
+    return status_;
   }
 
   /// Makes this connection the port's agent, replacing any other.
@@ -128,6 +138,11 @@ class AgentLink {
   }
 
  private:
+  explicit AgentLink(int fd) : fd_(fd), parser_(kMaxPayload) {
+    const int one = 1;
+    setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  }
+
   std::optional<NetFrame> await_control(double timeout_s) {
     const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
     while (Clock::now() < deadline) {
@@ -166,6 +181,8 @@ class AgentLink {
 
   int fd_ = -1;
   io::NetFrameParser parser_;
+  bool status_asked_ = false;
+  std::optional<io::PortStatus> status_;
 };
 
 /// Sends one ping and serves both agents until its ack returns or time runs out.
@@ -208,7 +225,7 @@ int claim_ports(AgentLink& a, AgentLink& b, const PingOptions& o) {
   bool checked[2] = {false, false};
   for (std::size_t k = 0; k < 2; ++k) {
     const auto& [link, id] = ports[k];
-    const std::optional<io::PortStatus> answer = link->status(kStatusTimeoutS);
+    const std::optional<io::PortStatus>& answer = link->status(kStatusTimeoutS);
     if (!answer) {
       std::fprintf(stderr,
                    "rfsitl ping: node %u's net port does not answer control frames (a port "
@@ -239,6 +256,22 @@ int claim_ports(AgentLink& a, AgentLink& b, const PingOptions& o) {
   return 0;
 }
 
+/// 2 (after saying so) when the run `link`'s port belongs to has no node
+/// --src or --dst; 0 otherwise, or when the port does not say which nodes
+/// there are (an older emulator, a port another program serves).
+int check_nodes_exist(AgentLink& link, const PingOptions& o) {
+  const std::optional<io::PortStatus>& st = link.status(kStatusTimeoutS);
+  if (!st || st->nodes.empty()) return 0;
+  for (const unsigned id : {o.src, o.dst}) {
+    if (!std::binary_search(st->nodes.begin(), st->nodes.end(), id)) {
+      std::fprintf(stderr, "rfsitl ping: node %u is not in this run (nodes: %s)\n", id,
+                   io::id_list_text(st->nodes).c_str());
+      return 2;
+    }
+  }
+  return 0;
+}
+
 int run_ping(const PingOptions& o) {
   if (o.src == o.dst) {
     std::fprintf(stderr, "rfsitl ping: --src and --dst must differ\n");
@@ -246,8 +279,17 @@ int run_ping(const PingOptions& o) {
   }
   std::vector<std::optional<double>> rtts;
   try {
-    AgentLink a(o.host, static_cast<std::uint16_t>(o.net_base + 10 * o.src), o.connect_timeout_s);
-    AgentLink b(o.host, static_cast<std::uint16_t>(o.net_base + 10 * o.dst), o.connect_timeout_s);
+    // Whichever port answers first says which nodes the run has: a node that
+    // does not exist is named at once, not after the connect timeout.
+    const std::uint16_t ports[2] = {static_cast<std::uint16_t>(o.net_base + 10 * o.src),
+                                    static_cast<std::uint16_t>(o.net_base + 10 * o.dst)};
+    auto [first, k] = AgentLink::connect_first(o.host, ports, o.connect_timeout_s);
+    if (const int rc = check_nodes_exist(*first, o); rc != 0) return rc;
+    auto second =
+        AgentLink::connect_first(o.host, std::span(ports).subspan(1 - k, 1), o.connect_timeout_s)
+            .first;
+    AgentLink& a = k == 0 ? *first : *second;
+    AgentLink& b = k == 0 ? *second : *first;
     if (const int rc = claim_ports(a, b, o); rc != 0) return rc;
     for (std::uint32_t seq = 0; seq < o.count; ++seq) {
       const auto rtt = ping_once(a, b, o, seq);

@@ -99,7 +99,11 @@ class NetSession final : public io::PortSession {
   void answer_control(std::string_view request) {
     std::string reply;
     if (request == io::kStatusRequest) {
-      reply = io::format_status_reply({id_, slot_.held_by_other(this), engine_.max_payload(node_)});
+      // Every id of the run: a tool asking about another node learns whether it exists.
+      std::vector<unsigned> ids(engine_.node_ids().begin(), engine_.node_ids().end());
+      std::sort(ids.begin(), ids.end());
+      reply = io::format_status_reply(
+          {id_, slot_.held_by_other(this), engine_.max_payload(node_), std::move(ids)});
     } else if (request == io::kTakeRequest) {
       claim("asked to take over");
       reply = std::string(io::kTakenReply);

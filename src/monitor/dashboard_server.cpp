@@ -12,6 +12,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -23,12 +24,14 @@
 #include "rfsitl/monitor/control_token.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/json_text.hpp"
+#include "rfsitl/monitor/link_table.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
 #include "rfsitl/monitor/position_request.hpp"
 #include "rfsitl/monitor/request_checks.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
 #include "rfsitl/monitor/viewer_queue.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
+#include "viewer_messages.hpp"
 #include "web_assets.hpp"
 
 namespace rfsitl::monitor {
@@ -86,7 +89,12 @@ class ViewerSession : public std::enable_shared_from_this<ViewerSession> {
 class Server final : public Dashboard {
  public:
   Server(const DashboardSettings& settings, const scenario::Scenario& s, engine::Engine& e)
-      : settings_(settings), scenario_(s), engine_(e), view_(e.node_ids()), timer_(io_) {
+      : settings_(settings),
+        scenario_(s),
+        engine_(e),
+        view_(e.node_ids()),
+        per_curves_(declared_per_curves(s)),
+        timer_(io_) {
     for (std::size_t i = 0; i < s.nodes.size(); ++i) {
       const scenario::PhyChoice& phy = s.phy_of(i);
       sensitivity_.push_back(
@@ -236,6 +244,15 @@ class Server final : public Dashboard {
 
   http::response<http::string_body> handle(const http::request<http::string_body>& req);
 
+  /// The link table of the moment (link_table.hpp), PER for `payload_bytes`.
+  std::vector<LinkRow> links(std::size_t payload_bytes) const {
+    const auto positions = engine_.positions();
+    const auto gains = engine_.link_gains();
+    const auto outcomes = view_.link_outcomes();
+    return link_rows({engine_.node_ids(), positions, gains, scenario_.channel.noise_variance,
+                      &outcomes, per_curves_, payload_bytes});
+  }
+
   /// {"error": message} with `status`.
   static http::response<http::string_body> error_response(
       const http::request<http::string_body>& req, http::status status,
@@ -252,20 +269,7 @@ class Server final : public Dashboard {
 
   /// The dashboard's own numbers, appended to /metrics.
   std::string dashboard_metrics() const {
-    return "# HELP rfsitl_dashboard_viewers Dashboard viewers connected now.\n"
-           "# TYPE rfsitl_dashboard_viewers gauge\n"
-           "rfsitl_dashboard_viewers " +
-           std::to_string(viewers()) +
-           "\n# HELP rfsitl_dashboard_messages_dropped_total Messages not sent to viewers that "
-           "did not keep up (replaced by newer ones or dropped to bound their queues).\n"
-           "# TYPE rfsitl_dashboard_messages_dropped_total counter\n"
-           "rfsitl_dashboard_messages_dropped_total " +
-           std::to_string(messages_dropped()) +
-           "\n# HELP rfsitl_dashboard_control_refused_total Moves refused because they did not "
-           "carry the dashboard's control token or carried a wrong one.\n"
-           "# TYPE rfsitl_dashboard_control_refused_total counter\n"
-           "rfsitl_dashboard_control_refused_total " +
-           std::to_string(control_refused()) + "\n";
+    return dashboard_metrics_text(viewers(), messages_dropped(), control_refused());
   }
 
  private:
@@ -318,6 +322,7 @@ class Server final : public Dashboard {
   const scenario::Scenario& scenario_;
   engine::Engine& engine_;
   LiveView view_;
+  std::vector<phy::PerCurve> per_curves_;  // by node: its receiver's declared curve
   std::vector<double> sensitivity_;
   asio::io_context io_;
   tcp::acceptor acceptor_{io_};
@@ -371,7 +376,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       target.resize(std::min(target.size(), target.find('?')));
       spdlog::warn("dashboard: {} {} refused: {}", log_text(std::string(req.method_string())),
                    log_text(target), log_text(why));
-      return respond(Server::error_response(req, status, why));
+      return respond(Server::error_response(req, status, why), req.method());
     }
     if (websocket::is_upgrade(req) && path_of(req.target()) == "/ws") {
       stream_.expires_never();
@@ -381,11 +386,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
           ->start(std::move(req));
       return;
     }
-    respond(server_.handle(req));
+    respond(server_.handle(req), req.method());
   }
 
-  void respond(http::response<http::string_body> response) {
+  /// Sends `response` to a `method` request: to HEAD without its body (its
+  /// headers, Content-Length included, as GET's).
+  void respond(http::response<http::string_body> response, http::verb method) {
     auto res = std::make_shared<http::response<http::string_body>>(std::move(response));
+    if (method == http::verb::head) res->body().clear();
     http::async_write(stream_, *res,
                       [self = shared_from_this(), res](beast::error_code wec, std::size_t) {
                         if (!wec && res->keep_alive()) self->read();
@@ -439,7 +447,9 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
   };
   std::string target(req.target());
   if (const auto q = target.find('?'); q != std::string::npos) target.resize(q);
-  if (req.method() == http::verb::get) {
+  // HEAD is answered as GET; HttpSession::respond leaves the body out
+  // (Prometheus and load balancers probe with it).
+  if (req.method() == http::verb::get || req.method() == http::verb::head) {
     if (target == "/") target = "/index.html";
     for (const WebAsset& a : web_assets()) {
       if (a.path == target) return reply(http::status::ok, a.content_type, std::string(a.body));
@@ -453,9 +463,24 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
                    json_text(snapshot_json(scenario_, engine_, view_, sensitivity_,
                                            settings_.control, true, settings_.sources)));
     }
+    if (target == "/api/links") {
+      const std::string_view full(req.target().data(), req.target().size());
+      const std::size_t q = full.find('?');
+      std::string why;
+      const auto query =
+          parse_link_query(q == std::string_view::npos ? "" : full.substr(q + 1), why);
+      if (!query) return error(http::status::bad_request, why);
+      return reply(http::status::ok, "application/json",
+                   json_text(link_table_json(select_links(links(query->payload_bytes), *query),
+                                             engine_.num_nodes(), *query,
+                                             scenario_.channel.noise_variance)));
+    }
     if (target == "/metrics") {
+      std::ostringstream link_metrics;
+      write_link_metrics(link_metrics, links(LinkQuery{}.payload_bytes), engine_.num_nodes());
       return reply(http::status::ok, "text/plain; version=0.0.4",
-                   prometheus_text(scenario_, engine_, settings_.sources) + dashboard_metrics());
+                   prometheus_text(scenario_, engine_, settings_.sources) + link_metrics.str() +
+                       dashboard_metrics());
     }
     return error(http::status::not_found, "no such page: " + target);
   }
@@ -498,7 +523,9 @@ http::response<http::string_body> Server::handle(const http::request<http::strin
     }
     return reply(http::status::ok, "application/json", json_text(Json{{"ok", true}}));
   }
-  return error(http::status::method_not_allowed, "unsupported request");
+  auto refused = error(http::status::method_not_allowed, "unsupported request");
+  refused.set(http::field::allow, target.starts_with(kPrefix) ? "POST" : "GET, HEAD");
+  return refused;
 }
 
 void Server::push() {
@@ -532,34 +559,15 @@ void Server::push() {
     if (!spectrum) {
       const std::vector<float> db = view_.spectrum(*node);
       if (db.empty()) continue;  // nothing averaged yet
-      Json bins = Json::array();
-      for (const float b : db) bins.push_back(std::round(b * 10.0F) / 10.0F);
-      spectrum = std::make_shared<const std::string>(Json{
-          {"type", "spectrum"},
-          {"node", engine_.node_ids()[*node]},
-          {"virtual_s", virtual_s},
-          {"sample_rate_hz", scenario_.timing.sample_rate_hz},
-          {"bins_db", bins}}.dump());
+      spectrum = std::make_shared<const std::string>(spectrum_message(
+          engine_.node_ids()[*node], virtual_s, scenario_.timing.sample_rate_hz, db));
     }
     v->send({spectrum, MessageKind::kSpectrum});
     const auto c = view_.constellation(*node);
     if (c && c->time != v->last_constellation) {
       v->last_constellation = c->time;
-      Json points = Json::array();
-      for (const cf32 p : c->points) {
-        points.push_back(
-            {std::round(p.real() * 1000.0F) / 1000.0F, std::round(p.imag() * 1000.0F) / 1000.0F});
-      }
-      v->send_event(Json{
-          {"type", "constellation"},
-          {"node", engine_.node_ids()[*node]},
-          {"virtual_s", static_cast<double>(c->time) / scenario_.timing.sample_rate_hz},
-          {"src", c->src},
-          {"dst", c->dst},
-          {"serial", c->serial},
-          {"valid", c->payload_valid},
-          {"points",
-           points}}.dump());
+      v->send_event(
+          constellation_message(engine_.node_ids()[*node], *c, scenario_.timing.sample_rate_hz));
     }
   }
 }

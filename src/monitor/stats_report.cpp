@@ -8,14 +8,13 @@
 #include "rfsitl/monitor/node_counter_report.hpp"
 
 namespace rfsitl::monitor {
-namespace {
 
-/// Rounds to `decimals` places (multiplying by 10^d, not dividing by 10^-d,
-/// keeps the printed number short).
 double round_to(double v, int decimals) {
   const double scale = std::pow(10.0, decimals);
   return std::round(v * scale) / scale;
 }
+
+namespace {
 
 nlohmann::json position_json(const std::optional<Ecef>& p, const GeodeticPosition& origin) {
   if (!p) return nullptr;
@@ -189,18 +188,12 @@ void prometheus_family(std::ostream& o, std::string_view name, std::string_view 
     << '\n';
 }
 
-namespace {
-
-/// The shortest text that reads back as `v` (a stream's default 6 digits
-/// would print a day of virtual time as 86400 but a month as 2.592e+06).
-std::string number(double v) {
+std::string prometheus_number(double v) {
   if (std::isnan(v)) return "NaN";
   if (std::isinf(v)) return v > 0 ? "+Inf" : "-Inf";
   char buf[32];
   return {buf, std::to_chars(buf, buf + sizeof(buf), v).ptr};
 }
-
-}  // namespace
 
 // Every node's position, velocity, attitude and source as stats_json gives
 // them (one reading of each, so the two cannot disagree): one gauge family per
@@ -225,7 +218,7 @@ void write_motion_metrics(std::ostream& o, const nlohmann::json& nodes) {
       if (!n.contains(f.key) || n.at(f.key).is_null()) continue;
       for (const auto& [member, value] : n.at(f.key).items()) {
         o << f.name << "{node=\"" << n.at("id").get<unsigned>() << "\"," << f.label << "=\""
-          << member << "\"} " << number(value.get<double>()) << '\n';
+          << member << "\"} " << prometheus_number(value.get<double>()) << '\n';
       }
     }
   }
@@ -269,13 +262,13 @@ std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e,
   };
   const engine::EngineStatus st = e.status();
   family("rfsitl_virtual_seconds", "gauge", "Virtual time emulated so far.");
-  o << "rfsitl_virtual_seconds " << number(st.virtual_s) << '\n';
+  o << "rfsitl_virtual_seconds " << prometheus_number(st.virtual_s) << '\n';
   family("rfsitl_wall_seconds", "gauge", "Wall-clock time since the run started.");
-  o << "rfsitl_wall_seconds " << number(st.wall_s) << '\n';
+  o << "rfsitl_wall_seconds " << prometheus_number(st.wall_s) << '\n';
   family("rfsitl_realtime_lag_seconds", "gauge", "How late the latest tick started (real time).");
-  o << "rfsitl_realtime_lag_seconds " << number(st.lag_s) << '\n';
+  o << "rfsitl_realtime_lag_seconds " << prometheus_number(st.lag_s) << '\n';
   family("rfsitl_realtime_lag_max_seconds", "gauge", "Worst real-time lag so far.");
-  o << "rfsitl_realtime_lag_max_seconds " << number(st.max_lag_s) << '\n';
+  o << "rfsitl_realtime_lag_max_seconds " << prometheus_number(st.max_lag_s) << '\n';
   family("rfsitl_late_ticks_total", "counter", "Ticks started more than a tick late.");
   o << "rfsitl_late_ticks_total " << st.late_ticks << '\n';
   family("rfsitl_late_decodes_total", "counter",
@@ -286,7 +279,7 @@ std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e,
     << "rfsitl_receiver_ticks_total{state=\"skipped\"} " << st.receiver_ticks_skipped << '\n'
     << "rfsitl_receiver_ticks_total{state=\"blanked\"} " << st.receiver_ticks_blanked << '\n';
   family("rfsitl_mobility_seconds_total", "counter", "Wall time spent evaluating mobility models.");
-  o << "rfsitl_mobility_seconds_total " << number(st.mobility_wall_s) << '\n';
+  o << "rfsitl_mobility_seconds_total " << prometheus_number(st.mobility_wall_s) << '\n';
   // Every per-node number of stats_json, under the same meaning.
   const auto counters = all_node_counters(e);
   write_node_counter_metrics(o, e.node_ids(), counters);

@@ -26,6 +26,10 @@ const std::vector<PhyComponent>& phy_components() {
       if (p.kind == TransceiverKind::kBuiltIn && p.info.find(kMaxPayloadSetting) == nullptr) {
         throw std::logic_error("PHY " + p.info.name + " does not declare max_payload_bytes");
       }
+      // Every estimate of a link's PER (`rfsitl links`) needs the receiver's curve.
+      if (p.kind == TransceiverKind::kBuiltIn && !p.per_curve) {
+        throw std::logic_error("PHY " + p.info.name + " does not declare its PER curve");
+      }
     }
     return v;
   }();
@@ -45,8 +49,11 @@ std::vector<std::string> known_phy_types() {
   return names;
 }
 
-std::unique_ptr<Transceiver> make_transceiver(std::string_view type,
-                                              const config::Settings& settings) {
+namespace {
+
+/// The registered PHY `type` after checking `settings` against its
+/// declaration; throws std::invalid_argument naming what is wrong.
+const PhyComponent& checked_phy(std::string_view type, const config::Settings& settings) {
   const PhyComponent* p = find_phy(type);
   if (p == nullptr) {
     std::string known;
@@ -54,16 +61,29 @@ std::unique_ptr<Transceiver> make_transceiver(std::string_view type,
     throw std::invalid_argument("unknown phy type '" + std::string(type) + "' (known: " + known +
                                 ")");
   }
-  if (!p->make) {
-    throw std::invalid_argument("phy type '" + std::string(type) +
-                                "' is another program's transceiver; rfsitl cannot build it");
-  }
   try {
     p->info.validate(settings);
   } catch (const config::SettingError& e) {
     throw std::invalid_argument("phy " + std::string(type) + ": " + e.key() + ": " + e.what());
   }
-  return p->make(settings);
+  return *p;
+}
+
+}  // namespace
+
+std::unique_ptr<Transceiver> make_transceiver(std::string_view type,
+                                              const config::Settings& settings) {
+  const PhyComponent& p = checked_phy(type, settings);
+  if (!p.make) {
+    throw std::invalid_argument("phy type '" + std::string(type) +
+                                "' is another program's transceiver; rfsitl cannot build it");
+  }
+  return p.make(settings);
+}
+
+PerCurve declared_per_curve(std::string_view type, const config::Settings& settings) {
+  const PhyComponent& p = checked_phy(type, settings);
+  return p.per_curve ? p.per_curve(settings) : PerCurve{};
 }
 
 std::unique_ptr<Transceiver> make_transceiver(std::string_view type) {

@@ -7,6 +7,7 @@ import re
 import statistics
 import subprocess
 import tempfile
+import time
 import unittest
 
 from harness import BIN, Emulator, assert_accounted
@@ -93,6 +94,23 @@ class PingTest(unittest.TestCase):
         self.assertIn("--size 2049 is more than node 1 accepts (phy.max_payload_bytes = 2048)",
                       r.stderr)
         self.assertEqual(emu.node(1)["handed_in"], 0)
+
+    def test_a_node_not_in_the_run_is_named_at_once(self):
+        # The old ping retried the missing node's port for the whole connect
+        # timeout (30 s here) and then said "Connection refused".
+        with Emulator({1: (0, 0, 10), 2: (5, 0, 10)}) as emu:
+            for args, missing in ((("--src", "1", "--dst", "9"), 9),
+                                  (("--src", "9", "--dst", "2"), 9)):
+                started = time.monotonic()
+                r = self.ping(emu, *args, "--count", "1")
+                elapsed = time.monotonic() - started
+                self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+                self.assertIn(f"node {missing} is not in this run (nodes: 1, 2)", r.stderr)
+                self.assertLess(elapsed, 15, "named well before the 30 s connect timeout")
+            summary = emu.stop()
+        self.assertEqual(emu.node(1)["handed_in"], 0)
+        self.assertEqual(emu.node(2)["handed_in"], 0)
+        assert_accounted(self, summary)
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
+#include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::phy {
 namespace {
@@ -92,6 +93,24 @@ TEST(FastGmskPer, CarrierOffsetOfFourThousandthsOfTheSampleRateIsTracked) {
   // preamble-to-sync estimate and the phase loop follow it through the frame.
   EXPECT_GE(success_rate(2, sensitivity(2) + 3.0, 40, 99, 0.004), 0.9);
   EXPECT_GE(success_rate(2, sensitivity(2) + 3.0, 40, 98, -0.004), 0.9);
+}
+
+TEST(FastGmskPer, DeclaredPerCurveAgreesWithTheMeasuredPerAcrossTheWaterfall) {
+  // The declared curve (gmsk_component.cpp) against this receiver's PER
+  // measured here, 80-byte frames at k = 2, from 90 % lost to a few percent
+  // (the 50 % point is near 4 dB). 150 frames per point: binomial sd <= 4 %,
+  // so 0.12 is three of them.
+  const PhyComponent* gmsk = find_phy("gmsk");
+  ASSERT_NE(gmsk, nullptr);
+  const PerCurve declared = declared_per_curve("gmsk", gmsk->info.defaults());
+  std::uint32_t seed = 700;
+  for (const double snr : {3.0, 3.5, 4.0, 4.5, 5.0, 6.0}) {
+    const double measured = 1.0 - success_rate(2, snr, 150, ++seed);
+    EXPECT_NEAR(declared(snr, 80), measured, 0.12) << snr << " dB";
+  }
+  // Both put the 50 % point between 3.5 and 4.5 dB.
+  EXPECT_GT(declared(3.5, 80), 0.5);
+  EXPECT_LT(declared(4.5, 80), 0.5);
 }
 
 }  // namespace

@@ -4,8 +4,13 @@
 /// such as `rfsitl ping` ask about a port before it uses it, without anything
 /// going on the air.
 ///
-///   request "rfsitl status" -> reply "rfsitl status node=ID agent=0|1 max_payload=N"
+///   request "rfsitl status" -> reply
+///       "rfsitl status node=ID agent=0|1 max_payload=N nodes=LIST"
 ///       agent=1: another connection is this port's agent right now.
+///       nodes: every node id of the run, ascending, runs of consecutive ids
+///       as FIRST-LAST ("1-4,9"), so that a tool can tell a node that does not
+///       exist from a port that does not answer (a 254-node run is "1-254").
+///       Replies without it (older emulators) still parse.
 ///   request "rfsitl take"   -> reply "rfsitl taken"
 ///       this connection becomes the port's agent at once (the previous one is
 ///       closed, and the emulator logs the takeover).
@@ -17,6 +22,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "rfsitl/common/net_frame.hpp"
 
@@ -44,11 +50,21 @@ struct PortStatus {
   unsigned node = 0;
   bool agent_connected = false;
   std::size_t max_payload = 0;
+  /// Every node id of the run, ascending; empty when the reply did not say.
+  std::vector<unsigned> nodes;
 };
 
 std::string format_status_reply(const PortStatus& s);
 
-/// nullopt when `text` is not a well-formed status reply.
+/// nullopt when `text` is not a well-formed status reply (a `nodes` list that
+/// is not ascending ids 1..kMaxNodeId included). `text` is outside input (what
+/// a net port sent); fuzz/agent_control_fuzzer.cpp.
 std::optional<PortStatus> parse_status_reply(std::string_view text);
+
+/// `ids` (ascending) as the reply's node list: "1-4,9"; "" for none.
+std::string format_id_ranges(const std::vector<unsigned>& ids);
+
+/// `ids` as a reader says them: "1, 2, 5" (every id, for error messages).
+std::string id_list_text(const std::vector<unsigned>& ids);
 
 }  // namespace rfsitl::io

@@ -44,6 +44,15 @@ nlohmann::json snapshot_json(const scenario::Scenario& s, engine::Engine& e, con
 std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e,
                             const position::SourceStatusFn& sources = {});
 
+/// `v` rounded to `decimals` places (multiplying by 10^d, not dividing by
+/// 10^-d, keeps the printed number short).
+double round_to(double v, int decimals);
+
+/// The shortest text that reads back as `v` (a stream's default 6 digits
+/// would print a day of virtual time as 86400 but a month as 2.592e+06);
+/// NaN, +Inf, -Inf as the text format spells them.
+std::string prometheus_number(double v);
+
 /// A label value as the text format needs it inside double quotes: backslash,
 /// double quote and line feed become \\, \" and \n; everything else stays.
 std::string prometheus_label_value(std::string_view v);

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "rfsitl/config/component_info.hpp"
+#include "rfsitl/phy/per_curve.hpp"
 #include "rfsitl/phy/transceiver.hpp"
 
 namespace rfsitl::phy {
@@ -30,6 +31,10 @@ struct PhyComponent {
   std::function<std::unique_ptr<Transceiver>(const config::Settings&)> make;
   /// A few words for the banner ("ofdm 24 Mbit/s"); empty: the type name.
   std::function<std::string(const config::Settings&)> label;
+  /// The declared PER curve (per_curve.hpp) of a transceiver with these
+  /// settings (validated); empty when the PHY declares none (another
+  /// program's transceiver).
+  std::function<PerCurve(const config::Settings&)> per_curve;
 };
 
 }  // namespace rfsitl::phy

@@ -26,6 +26,12 @@ std::vector<std::string> known_phy_types();
 std::unique_ptr<Transceiver> make_transceiver(std::string_view type,
                                               const config::Settings& settings);
 
+/// The declared PER curve (per_curve.hpp) of a `type` transceiver with
+/// `settings` (validated here, as make_transceiver does); an empty function
+/// when the PHY declares none (another program's transceiver). Throws as
+/// make_transceiver for an unknown type or a bad setting.
+PerCurve declared_per_curve(std::string_view type, const config::Settings& settings);
+
 /// `type` with its declared defaults (e.g. for tests and benchmarks).
 std::unique_ptr<Transceiver> make_transceiver(std::string_view type);
 

@@ -14,7 +14,8 @@ PhyComponent external_program_component() {
            {}},
           TransceiverKind::kExternalProgram,
           {},
-          [](const config::Settings&) { return std::string("external program"); }};
+          [](const config::Settings&) { return std::string("external program"); },
+          {}};  // no PER curve: rfsitl does not know the program's receiver
 }
 
 }  // namespace rfsitl::phy
