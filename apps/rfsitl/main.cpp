@@ -27,9 +27,9 @@ int main(int argc, char** argv) {
   // CLI11 would call an unknown command a missing one ("A subcommand is required").
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* c) { return c->check_name(argv[1]); }).empty()) {
-    std::cerr << "rfsitl: unknown command '" << argv[1]
-              << "' (commands: run, ping, links, describe, node, mavlink-send; see rfsitl --help)
-";
+    std::cerr
+        << "rfsitl: unknown command '" << argv[1]
+        << "' (commands: run, ping, links, describe, node, mavlink-send; see rfsitl --help)\n";
     return 2;
   }
   try {
