@@ -117,6 +117,7 @@
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 

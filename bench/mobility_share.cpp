@@ -38,6 +38,7 @@
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/engine/node_counter_fields.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 
 namespace {

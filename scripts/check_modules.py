@@ -17,7 +17,9 @@ import re
 import sys
 
 INCLUDE_RE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"rfsitl/([^"]+)"', re.M)
-CALL_RE = re.compile(r"\b(add_library|add_executable|target_link_libraries)\s*\(([^)]*)\)", re.S)
+CALL_RE = re.compile(
+    r"\b(add_library|add_executable|target_link_libraries|rfsitl_component)\s*\(([^)]*)\)", re.S)
+COMPONENT_TARGET_RE = re.compile(r"\bTARGET\s+(\S+)")
 
 
 def component_folders(root):
@@ -59,7 +61,7 @@ def read_cmake_graph(root):
     target_module = {}
     links = {}
     compiled_in = {}
-    phy_components = set()
+    component_targets = set()  # every rfsitl_component()'s library
     for top in ("src", "apps"):
         for dirpath, _, files in os.walk(os.path.join(root, top)):
             if "CMakeLists.txt" not in files:
@@ -72,6 +74,9 @@ def read_cmake_graph(root):
                 if not words:
                     continue
                 name = words[0]
+                if kind == "rfsitl_component":
+                    component_targets.update(COMPONENT_TARGET_RE.findall(args))
+                    continue
                 if kind in ("add_library", "add_executable"):
                     if not name.startswith("rfsitl"):
                         continue
@@ -80,8 +85,6 @@ def read_cmake_graph(root):
                         module = "apps"
                     elif len(parts) >= 3:
                         module = f"{parts[1]}/{parts[2]}"
-                        if parts[1] == "phy":
-                            phy_components.add(module)
                     else:
                         module = name[len("rfsitl_"):]
                     target_module[name] = module
@@ -92,7 +95,7 @@ def read_cmake_graph(root):
                 else:
                     deps = links.setdefault(name, set())
                     for w in words[1:]:
-                        if w.startswith("rfsitl_") or w == "${RFSITL_PHY_COMPONENT_LIBRARIES}":
+                        if w.startswith("rfsitl_") or w == "${RFSITL_COMPONENT_LIBRARIES}":
                             deps.add(w)
     graph = {m: set() for m in target_module.values()}
     for m, others in compiled_in.items():
@@ -102,10 +105,13 @@ def read_cmake_graph(root):
             continue
         m = target_module[target]
         for d in deps:
-            if d == "${RFSITL_PHY_COMPONENT_LIBRARIES}":
-                graph[m] |= phy_components
+            if d == "${RFSITL_COMPONENT_LIBRARIES}":
+                graph[m] |= {target_module[t] for t in component_targets if t in target_module}
             elif d in target_module:
                 graph[m].add(target_module[d])
+        # A component folder nested in its module's folder (a mobility model
+        # in position/mobility/orbit/) links its module: the same module.
+        graph[m].discard(m)
     return graph
 
 

@@ -2,6 +2,8 @@
 /// Sub-commands of the `rfsitl` executable.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace rfsitl::app {
 
@@ -19,6 +21,10 @@ std::function<int()> add_describe_command(CLI::App& parent);
 
 /// Registers `rfsitl node`: one node's transceiver in its own process.
 std::function<int()> add_node_command(CLI::App& parent);
+
+/// Where this program loads plugins from: RFSITL_PLUGIN_PATH, then the plugin
+/// folder of the prefix the executable is installed in (when it is).
+std::vector<std::string> plugin_folders();
 
 /// Registers `rfsitl mavlink-send`: stand-in MAVLink vehicles for --mavlink.
 std::function<int()> add_mavlink_send_command(CLI::App& parent);

@@ -13,6 +13,7 @@
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 
@@ -30,11 +31,14 @@ struct DescribeOptions {
 // and the radio whose link budget they complete.
 std::vector<const config::ComponentInfo*> all_components() {
   std::vector<const config::ComponentInfo*> out;
-  for (const auto& s : position::position_source_components()) out.push_back(&s.info);
-  for (const auto& m : position::mobility::mobility_components()) out.push_back(&m.info);
+  for (const position::PositionSourceComponent& s : position::position_source_components())
+    out.push_back(&s.info);
+  for (const position::mobility::MobilityComponent& m : position::mobility::mobility_components())
+    out.push_back(&m.info);
   for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
   for (const mac::MacComponent& m : mac::mac_components()) out.push_back(&m.info);
-  for (const auto& s : channel::channel_stage_components()) out.push_back(&s.info);
+  for (const channel::ChannelStageComponent& s : channel::channel_stage_components())
+    out.push_back(&s.info);
   out.push_back(&channel::radio_info());
   out.push_back(&channel::front_end_info());
   return out;

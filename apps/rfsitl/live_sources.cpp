@@ -68,21 +68,22 @@ std::string LiveSources::location_port(std::size_t index) const {
   return sources_.at(kLocationPort)->where(index);
 }
 
-void follow_mavlink(scenario::Scenario& s, const std::string& endpoint) {
-  const auto* mavlink = position::find_position_source("mavlink");
-  scenario::PositionSourceChoice p{"mavlink", s.position_source.type == "mavlink"
-                                                  ? s.position_source.settings
-                                                  : mavlink->info.defaults()};
-  p.settings.set("endpoint", endpoint);
+void follow_source(scenario::Scenario& s, const position::PositionSourceComponent& source,
+                   const std::string& value) {
+  const std::string& name = source.info.name;
+  const std::string& flag = source.flag.flag;
+  scenario::PositionSourceChoice p{
+      name, s.position_source.type == name ? s.position_source.settings : source.info.defaults()};
+  p.settings.set(source.flag.setting, value);
   try {
-    mavlink->info.validate(p.settings);
+    source.info.validate(p.settings);
   } catch (const config::SettingError& e) {
-    throw scenario::ScenarioError("--mavlink: " + std::string(e.what()));
+    throw scenario::ScenarioError(flag + ": " + std::string(e.what()));
   }
   // Said here, naming the flag, rather than by validate_scenario() as a
   // problem of the scenario's position.source, which the user never wrote.
-  if (s.timing.mode == scenario::TimeMode::kVirtual) {
-    throw scenario::ScenarioError("--mavlink: " + scenario::wall_clock_conflict(s.timing));
+  if (source.wall_clock && s.timing.mode == scenario::TimeMode::kVirtual) {
+    throw scenario::ScenarioError(flag + ": " + scenario::wall_clock_conflict(s.timing));
   }
   s.position_source = p;
   for (auto& n : s.nodes) n.source.reset();

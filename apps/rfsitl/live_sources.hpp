@@ -48,11 +48,12 @@ class LiveSources {
   std::map<std::string, std::unique_ptr<position::PositionSource>> sources_;
 };
 
-/// Makes every node follow a MAVLink vehicle at `endpoint` (the --mavlink
-/// flag): the scenario's position source becomes mavlink with that endpoint
-/// (its other mavlink settings kept), and nodes' own sources give way to it;
+/// Makes every node follow `source` with its flag's setting at `value` (e.g.
+/// --mavlink ENDPOINT): the scenario's position source becomes `source` with
+/// that setting (its other settings kept), and nodes' own sources give way to it;
 /// nodes with a mobility model keep it. Throws scenario::ScenarioError naming
-/// --mavlink for a bad endpoint.
-void follow_mavlink(scenario::Scenario& s, const std::string& endpoint);
+/// the flag for a bad value, or for a wall-clock source in virtual time.
+void follow_source(scenario::Scenario& s, const position::PositionSourceComponent& source,
+                   const std::string& value);
 
 }  // namespace rfsitl::app

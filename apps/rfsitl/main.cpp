@@ -6,6 +6,8 @@
 #include <string>
 
 #include "commands.hpp"
+#include "rfsitl/registry/plugin_loader.hpp"
+#include "rfsitl/version.hpp"
 
 int main(int argc, char** argv) {
   // spdlog's default logger is created here, before any thread starts. It is a
@@ -17,7 +19,11 @@ int main(int argc, char** argv) {
       "rfsitl: software-in-the-loop RF channel emulator for UAV swarms and other multi-robot "
       "systems"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "rfsitl 0.1.0");
+  // Plugins first: --help, describe and a scenario see their components.
+  for (const auto& p : rfsitl::registry::load_plugins(rfsitl::app::plugin_folders())) {
+    if (!p.loaded) std::cerr << "rfsitl: plugin " << p.path << " skipped: " << p.error << "\n";
+  }
+  app.set_version_flag("--version", "rfsitl " RFSITL_VERSION);
   auto run = rfsitl::app::add_run_command(app);
   auto ping = rfsitl::app::add_ping_command(app);
   auto links = rfsitl::app::add_links_command(app);

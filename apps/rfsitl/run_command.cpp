@@ -37,6 +37,7 @@
 #include "rfsitl/monitor/live_view.hpp"
 #include "rfsitl/monitor/pcap_trace.hpp"
 #include "rfsitl/monitor/sigmf_recorder.hpp"
+#include "rfsitl/registry/position_source_registry.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 #include "run_report.hpp"
@@ -127,7 +128,10 @@ struct RunOptions {
   bool ip = false;
   std::optional<std::string> mac;  ///< --mac NAME
   std::string summary_json;
-  std::optional<std::string> mavlink;  ///< --mavlink ENDPOINT[+STEP]
+  /// The position sources' flags (--mavlink ENDPOINT), as typed: one per
+  /// source that declares one, in the registry's order.
+  std::vector<std::pair<const position::PositionSourceComponent*, std::optional<std::string>>>
+      source_flags;
 };
 
 // A file refuses tick_samples beside tick_us; so does the command line.
@@ -164,7 +168,9 @@ scenario::Scenario build_scenario(const RunOptions& o) {
       scenario::apply_setting(s, kSettingFlags[i].key, *v, std::string(kSettingFlags[i].flag));
     }
   }
-  if (o.mavlink) follow_mavlink(s, *o.mavlink);
+  for (const auto& [source, value] : o.source_flags) {
+    if (value) follow_source(s, *source, *value);
+  }
   if (o.no_skip) scenario::apply_setting(s, "engine.skip_idle_receivers", "false", "--no-skip");
   if (o.shared_noise) scenario::apply_setting(s, "channel.shared_noise", "true", "--shared-noise");
   if (o.ip) scenario::apply_setting(s, "ip.enabled", "true", "--ip");
@@ -197,7 +203,7 @@ std::string run_fingerprint(const RunOptions& o) {
   for (const auto& v : o.settings) add(v.value_or("-"));
   add(o.arch.value_or("-"));
   add(o.mac.value_or("-"));
-  add(o.mavlink.value_or("-"));
+  for (const auto& [source, value] : o.source_flags) add(value.value_or("-"));
   add(std::to_string(o.ip) + std::to_string(o.no_skip) + std::to_string(o.shared_noise));
   return text;
 }
@@ -643,11 +649,14 @@ std::function<int()> add_run_command(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--dashboard-port", opts->dashboard_port,
                   "Port of the web dashboard (default 15700, or any free port if taken; 0: any)");
-  cmd->add_option("--mavlink", opts->mavlink,
-                  "Follow MAVLink vehicles: tcp:HOST:PORT (connect) or udp:HOST:PORT (listen), "
-                  "+STEP: node n uses PORT + STEP (n - 1); e.g. tcp:127.0.0.1:5762+10 follows "
-                  "ArduPilot SITL instances 0, 1, 2 ...")
-      ->type_name("ENDPOINT");
+  // Each position source's shorthand flag (--mavlink), as the source declares it.
+  for (const position::PositionSourceComponent& source : position::position_source_components()) {
+    if (!source.flag.flag.empty()) opts->source_flags.push_back({&source, std::nullopt});
+  }
+  for (auto& [source, value] : opts->source_flags) {
+    cmd->add_option(source->flag.flag, value, source->flag.help)
+        ->type_name(source->flag.value_name);
+  }
   cmd->add_flag(
       "--ip", opts->ip,
       "IP on every node: a network namespace each (rfsitl-<net base>-<id>) with a TAP "

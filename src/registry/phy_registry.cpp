@@ -3,50 +3,38 @@
 #include <algorithm>
 #include <stdexcept>
 
-// The built-in PHYs, one entry each: adding a PHY is a folder under src/phy/
-// (with a CMakeLists.txt building rfsitl_<folder>) that defines
-// `PhyComponent <folder>_component()`, and the folder's name here.
-#define RFSITL_PHYS(X) X(gmsk) X(gmsk_liquid) X(ofdm) X(dsss) X(gfsk) X(external_program)
-
 namespace rfsitl::phy {
 
-#define RFSITL_DECLARE_PHY(name) PhyComponent name##_component();
-RFSITL_PHYS(RFSITL_DECLARE_PHY)
-#undef RFSITL_DECLARE_PHY
+void register_builtin(registry::Registry<PhyComponent>& r);  // generated from the component folders
 
-const std::vector<PhyComponent>& phy_components() {
-  static const std::vector<PhyComponent> all = [] {
-#define RFSITL_LIST_PHY(name) name##_component(),
-    std::vector<PhyComponent> v{RFSITL_PHYS(RFSITL_LIST_PHY)};
-#undef RFSITL_LIST_PHY
-    std::sort(v.begin(), v.end(), [](const PhyComponent& a, const PhyComponent& b) {
-      return a.info.name < b.info.name;
-    });
-    for (const PhyComponent& p : v) {
-      if (p.kind == TransceiverKind::kBuiltIn && p.info.find(kMaxPayloadSetting) == nullptr) {
-        throw std::logic_error("PHY " + p.info.name + " does not declare max_payload_bytes");
-      }
-      // Every estimate of a link's PER (`rfsitl links`) needs the receiver's curve.
-      if (p.kind == TransceiverKind::kBuiltIn && !p.per_curve) {
-        throw std::logic_error("PHY " + p.info.name + " does not declare its PER curve");
-      }
-    }
-    return v;
-  }();
-  return all;
+registry::Registry<PhyComponent>& phy_registry() {
+  // A built-in PHY must say how large a frame it carries (the engine sizes
+  // queues and MACs from it) and its PER curve (every estimate of a link's
+  // PER, `rfsitl links`, needs the receiver's).
+  static registry::Registry<PhyComponent> r =
+      registry::with_builtins<PhyComponent>([](const PhyComponent& p) {
+        if (p.kind != TransceiverKind::kBuiltIn) return;
+        if (p.info.find(kMaxPayloadSetting) == nullptr) {
+          throw std::invalid_argument("PHY " + p.info.name + " does not declare " +
+                                      std::string(kMaxPayloadSetting));
+        }
+        if (!p.per_curve) {
+          throw std::invalid_argument("PHY " + p.info.name + " does not declare its PER curve");
+        }
+      });
+  return r;
+}
+
+const registry::Registry<PhyComponent>::List& phy_components() {
+  return phy_registry().all();
 }
 
 const PhyComponent* find_phy(std::string_view type) {
-  const auto& all = phy_components();
-  const auto it = std::find_if(all.begin(), all.end(),
-                               [type](const PhyComponent& p) { return p.info.name == type; });
-  return it == all.end() ? nullptr : &*it;
+  return phy_registry().find(type);
 }
 
 std::vector<std::string> known_phy_types() {
-  std::vector<std::string> names;
-  for (const PhyComponent& p : phy_components()) names.push_back(p.info.name);
-  return names;
+  return phy_registry().names();
 }
 
 namespace {

@@ -16,7 +16,7 @@ StageChoice read_stage(Context& c, const Entry& at) {
   StageChoice stage{text(c, type), {}};
   std::vector<std::string> names;
   std::vector<const config::ComponentInfo*> stages;
-  for (const auto& component : channel::channel_stage_components()) {
+  for (const channel::ChannelStageComponent& component : channel::channel_stage_components()) {
     names.push_back(component.info.name);
     stages.push_back(&component.info);
   }

@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "rfsitl/position/mobility/mobility_component.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 
 namespace rfsitl::scenario {
 

@@ -30,6 +30,7 @@
 #include "rfsitl/config/setting.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
@@ -137,7 +138,8 @@ std::optional<MobilityChoice> read_mobility(Context& c, const Entry& at) {
   MobilityChoice m{text(c, type), {}};
   std::vector<const config::ComponentInfo*> models;
   std::vector<std::string> names;
-  for (const auto& model : position::mobility::mobility_components()) {
+  for (const position::mobility::MobilityComponent& model :
+       position::mobility::mobility_components()) {
     models.push_back(&model.info);
     names.push_back(model.info.name);
   }
@@ -157,7 +159,8 @@ PositionSourceChoice read_source(Context& c, const Entry& at, std::optional<Posi
   PositionSourceChoice p{text(c, type), {}};
   std::vector<std::string> names;
   std::vector<const config::ComponentInfo*> sources;
-  for (const auto& component : position::position_source_components()) {
+  for (const position::PositionSourceComponent& component :
+       position::position_source_components()) {
     names.push_back(component.info.name);
     sources.push_back(&component.info);
   }
@@ -193,7 +196,7 @@ void read_mac(Context& c, const Entry& at, MacChoice& mac) {
   Section sec(c, at);
   std::vector<std::string> names;
   std::vector<const config::ComponentInfo*> macs;
-  for (const auto& component : mac::mac_components()) {
+  for (const mac::MacComponent& component : mac::mac_components()) {
     names.push_back(component.info.name);
     macs.push_back(&component.info);
   }

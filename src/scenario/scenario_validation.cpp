@@ -14,6 +14,7 @@
 #include "rfsitl/common/unix_socket_path.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "scenario_rules.hpp"

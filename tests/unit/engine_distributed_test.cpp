@@ -14,6 +14,7 @@
 #include "rfsitl/monitor/live_view.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/mac_registry.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 #include "thread_peers.hpp"
 
 namespace rfsitl::testing {

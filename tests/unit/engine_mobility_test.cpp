@@ -10,6 +10,7 @@
 #include "engine_run.hpp"
 #include "rfsitl/channel/geodesy.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
+#include "rfsitl/registry/mobility_registry.hpp"
 
 namespace rfsitl::testing {
 namespace {

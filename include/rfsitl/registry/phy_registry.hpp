@@ -8,11 +8,17 @@
 #include <vector>
 
 #include "rfsitl/phy/phy_component.hpp"
+#include "rfsitl/registry/registry.hpp"
 
 namespace rfsitl::phy {
 
-/// Every registered PHY, sorted by name. Thread-safe (built once, then constant).
-const std::vector<PhyComponent>& phy_components();
+/// The registry itself, for registering (plugins) and for generic readers.
+/// Built-ins register on first use; plugins add theirs at start (registry.hpp
+/// says when each may be called, from which thread).
+registry::Registry<PhyComponent>& phy_registry();
+
+/// Every registered PHY, sorted by name.
+const registry::Registry<PhyComponent>::List& phy_components();
 
 /// The PHY named `type`, or nullptr.
 const PhyComponent* find_phy(std::string_view type);

@@ -1,19 +1,22 @@
 #pragma once
 /// Live position sources by name ("mavlink"), as the scenario's
-/// `position: {source: NAME, ...}` selects them. Mobility models, the other kind
-/// of source, are registered in position/mobility/mobility_component.hpp.
-#include <string>
+/// `position: {source: NAME, ...}` selects them.
+/// Built-ins register on first use; plugins add theirs at start
+/// (registry.hpp says when each may be called, from which thread).
 #include <string_view>
-#include <vector>
 
 #include "rfsitl/position/source/position_source.hpp"
+#include "rfsitl/registry/registry.hpp"
 
 namespace rfsitl::position {
 
-/// Every registered live source, sorted by name. Thread-safe.
-const std::vector<PositionSourceComponent>& position_source_components();
+/// The registry itself, for registering (plugins) and for generic readers.
+registry::Registry<PositionSourceComponent>& position_source_registry();
 
-/// The source named `name`, or nullptr.
+/// Every registered source, sorted by name.
+const registry::Registry<PositionSourceComponent>::List& position_source_components();
+
+/// The one named `name`, or nullptr.
 const PositionSourceComponent* find_position_source(std::string_view name);
 
 }  // namespace rfsitl::position

@@ -9,7 +9,9 @@ PositionSourceComponent location_port_component() {
               "position", "location_port",
               "one position per line on a TCP port per node (lat lon alt, JSON, local x/y/z, "
               "NMEA GGA); the default source, and an override for every node"),
-          false, make_location_port_source};
+          false,
+          make_location_port_source,
+          {}};
 }
 
 }  // namespace rfsitl::position

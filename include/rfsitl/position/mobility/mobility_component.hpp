@@ -38,10 +38,6 @@ struct MobilityComponent {
       make;
 };
 
-/// Every registered mobility model, sorted by name.
-const std::vector<MobilityComponent>& mobility_components();
-
-/// The model named `type`, or nullptr.
-const MobilityComponent* find_mobility(std::string_view type);
+// The models by name: rfsitl/registry/mobility_registry.hpp.
 
 }  // namespace rfsitl::position::mobility

@@ -107,6 +107,16 @@ struct SourceContext {
   std::uint16_t location_base = 15766;
 };
 
+/// A flag of `rfsitl run` that makes every node follow a source with one of
+/// its settings given on the command line: `--mavlink ENDPOINT` is
+/// `position: {source: mavlink, endpoint: ENDPOINT}` for the whole scenario.
+struct SourceFlag {
+  std::string flag;        ///< "--mavlink"; empty: the source has no flag
+  std::string setting;     ///< the setting the flag's value sets ("endpoint")
+  std::string value_name;  ///< what --help shows for the value ("ENDPOINT")
+  std::string help;
+};
+
 /// What a live position source registers (registry/position_source_registry.hpp).
 struct PositionSourceComponent {
   config::ComponentInfo info;  ///< kind "position"
@@ -118,6 +128,7 @@ struct PositionSourceComponent {
   std::function<std::unique_ptr<PositionSource>(const SourceContext& context,
                                                 const std::vector<SourceNode>& nodes)>
       make;
+  SourceFlag flag;  ///< its shorthand on the command line, if any
 };
 
 }  // namespace rfsitl::position
