@@ -5,7 +5,7 @@
 /// 80-byte frames, the counters at the end (as bench/per_sweep.cpp does).
 ///
 ///   rfsitl_fading_per [--frames N] [--phys gmsk,dsss] [--csv FILE] [--jobs J]
-///   /usr/bin/python3 scripts/plot_fading_per.py FILE -o PNG
+///   /usr/bin/python3 bench/plot_fading_per.py FILE -o PNG
 ///
 /// SNR is per sample, transmit power over the noise variance in fs, as in the
 /// PER sweep; in fading "mean SNR" is its mean over the fades, E|h|^2 / sigma^2

@@ -6,7 +6,7 @@
 /// and the times the engine really has (whole ticks: mac.hpp).
 ///
 ///   rfsitl_mac_saturation [--nodes 2,4,8,16] [--seconds 20] [--payload 500] [--csv FILE]
-///   /usr/bin/python3 scripts/plot_mac_saturation.py FILE -o PNG
+///   /usr/bin/python3 bench/plot_mac_saturation.py FILE -o PNG
 ///   rfsitl_mac_saturation --bounds [--phy ofdm --rate-mbps 24] [--sample-rate 2e6] [--payload
 ///   1514]
 ///

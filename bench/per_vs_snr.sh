@@ -9,4 +9,4 @@ OUT=out/per
 mkdir -p "$OUT"
 build/release/bench/rfsitl_per_sweep --frames "${FRAMES:-500}" --from -2 --to 30 --step 0.5 \
   --csv "$OUT/per_vs_snr.csv" "$@"
-/usr/bin/python3 scripts/plot_per.py "$OUT/per_vs_snr.csv" -o "$OUT/per_vs_snr.png" | tee "$OUT/table.md"
+/usr/bin/python3 bench/plot_per.py "$OUT/per_vs_snr.csv" -o "$OUT/per_vs_snr.png" | tee "$OUT/table.md"

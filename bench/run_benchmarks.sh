@@ -14,7 +14,7 @@
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
 #             real time (rfsitl_swarm_load); largest N that keeps real time (definition:
-#             scripts/bench_collect.py) and its delivery ratio
+#             bench/bench_collect.py) and its delivery ratio
 #   capacity_fading  the same with the delay stage, four taps and Rician fading on every
 #             tap of every link (a scenario with `nodes: N`), N = CAPF_NODES
 #   ofdm_native  the same load on 802.11a/g OFDM at its native 20 Msps, 24 Mbit/s frames,
@@ -260,7 +260,7 @@ if stage fig5; then
         --net-base "$NET_BASE" --csv "$rtt" >/dev/null || echo "bench: ping at N=$n failed"
     fi
     stop_emulator
-    "$PY" scripts/bench_collect.py rtt-row --n "$n" --ping-csv "$rtt" --summary-json "$json" \
+    "$PY" bench/bench_collect.py rtt-row --n "$n" --ping-csv "$rtt" --summary-json "$json" \
       --floor-ms "$FLOOR_MS" --out "$OUT/fig5_rtt_vs_n.csv"
   done
   mark fig5
@@ -305,7 +305,7 @@ capacity_run() {
         --cpu-wall-s "$(awk -v a="$(date +%s.%N)" -v b="$wall0" 'BEGIN { print a - b }')")
     fi
     stop_emulator
-    "$PY" scripts/bench_collect.py capacity-row --n "$n" --load-json "$load" --emu-log "$log" \
+    "$PY" bench/bench_collect.py capacity-row --n "$n" --load-json "$load" --emu-log "$log" \
       --from-line "$((from + 1))" --to-line "$to" --load-seconds "$CAP_SECONDS" \
       --summary-json "$json" "${cpu[@]}" "${side_args[@]}" \
       --floor-ms "$FLOOR_MS" --out "$OUT/$name.csv" --lag-csv "$OUT/$name/lag_$n.csv"
@@ -481,7 +481,7 @@ if stage fading_per; then
   "$BENCH"/rfsitl_fading_per --frames "$FADING_FRAMES" --csv "$OUT/fading_per/fading_per.csv" |
     tee "$OUT/fading_per/fading_per.log" ||
     echo "bench: fading_per: a gap exceeds 1 dB or a run did not finish (see above)"
-  "$PY" scripts/plot_fading_per.py "$OUT/fading_per/fading_per.csv" \
+  "$PY" bench/plot_fading_per.py "$OUT/fading_per/fading_per.csv" \
     -o "$OUT/fading_per/fading_per.png" || echo "bench: fading_per: plot failed"
   mark fading_per
 fi
@@ -491,7 +491,7 @@ if stage mac; then
   mkdir -p "$OUT/mac"
   "$BENCH"/rfsitl_mac_saturation --seconds "$MAC_SECONDS" --csv "$OUT/mac/mac_saturation.csv" |
     tee "$OUT/mac/mac_saturation.log"
-  "$PY" scripts/plot_mac_saturation.py "$OUT/mac/mac_saturation.csv" \
+  "$PY" bench/plot_mac_saturation.py "$OUT/mac/mac_saturation.csv" \
     -o "$OUT/mac/mac_saturation.png" || echo "bench: mac: plot failed"
   mark mac
 fi
@@ -506,7 +506,7 @@ if stage ip; then
 fi
 
 # --- report -----------------------------------------------------------------------
-"$PY" scripts/bench_plots.py "$OUT"
+"$PY" bench/bench_plots.py "$OUT"
 T_END=$(date +%s)
 if [ -n "$STAGES" ]; then
   printf "key,value\nquick,%s\nwall_s,%s\nload_before,%s\nstages,%s\ncap_seconds,%s\n%s\n" \
@@ -514,7 +514,7 @@ if [ -n "$STAGES" ]; then
     "ofdm_tick,${OFDM_TICK_SAMPLES:+$OFDM_TICK_SAMPLES samples}${OFDM_TICK_SAMPLES:-$OFDM_TICK_US us}" \
     >"$OUT/run_info.csv"
 fi
-"$PY" scripts/bench_summary.py "$OUT" >"$OUT/summary.md"
+"$PY" bench/bench_summary.py "$OUT" >"$OUT/summary.md"
 echo
 cat "$OUT/summary.md"
 echo "bench: results in $OUT/ ($((T_END - T_START)) s)"

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the benchmark's text summary (Markdown) from the CSV files in OUT.
 
-    /usr/bin/python3 scripts/bench_summary.py out/bench > out/bench/summary.md
+    /usr/bin/python3 bench/bench_summary.py out/bench > out/bench/summary.md
 
 The run's facts (QUICK or full, wall time, load average before it) come from
 run_info.csv and the time per part from timings.csv, both written by the run.
@@ -374,7 +374,7 @@ def main():
                  f"{info.get('cap_seconds', '?')} s of real time. *Keeps real time*, from the emulator's own "
                  "stats lines (one per second) printed while the load was sending: the median "
                  "lag of the last 5 is under 50 ms, and the Theil-Sen slope of the lag over the "
-                 "load is under 0.5 ms/s (no growth); definition in scripts/bench_collect.py. "
+                 "load is under 0.5 ms/s (no growth); definition in bench/bench_collect.py. "
                  "Delivery ratio = frames delivered / frames sent, pings and acks (frames still "
                  "queued 1 s after the last ping count as lost); round trips = pings acked "
                  "within 1 s. Loss reasons from the emulator's counters.\n")

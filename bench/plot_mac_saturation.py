@@ -5,7 +5,7 @@ throughput beside csma (left), and csma's collision probability beside the
 model's (right).
 
     build/release/bench/rfsitl_mac_saturation --csv out/mac/mac_saturation.csv
-    /usr/bin/python3 scripts/plot_mac_saturation.py out/mac/mac_saturation.csv \\
+    /usr/bin/python3 bench/plot_mac_saturation.py out/mac/mac_saturation.csv \\
         -o out/mac/mac_saturation.png
 """
 

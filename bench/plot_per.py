@@ -3,7 +3,7 @@
 PHY/rate, with the theoretical curve of each uncoded PHY from its BER formula,
 and prints the SNR at which each curve crosses 10% and 1% PER.
 
-    /usr/bin/python3 scripts/plot_per.py out/per/per_vs_snr.csv -o out/per/per_vs_snr.png
+    /usr/bin/python3 bench/plot_per.py out/per/per_vs_snr.csv -o out/per/per_vs_snr.png
 """
 
 import argparse

@@ -6,7 +6,7 @@ distribution), the reference over the bench's own fade sample, and the AWGN
 curve itself against SNR; log PER. Prints the gaps at a few PER levels.
 
     build/release/bench/rfsitl_fading_per --csv out/fading_per/fading_per.csv
-    /usr/bin/python3 scripts/plot_fading_per.py out/fading_per/fading_per.csv \
+    /usr/bin/python3 bench/plot_fading_per.py out/fading_per/fading_per.csv \
         -o out/fading_per/fading_per.png
 """
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the benchmark figures from the CSV files in OUT (bench/run_benchmarks.sh).
 
-    /usr/bin/python3 scripts/bench_plots.py out/bench
+    /usr/bin/python3 bench/bench_plots.py out/bench
 
 Writes fig4_rtt_cdf.png, fig5_rtt_vs_n.png, capacity.png and mix_kernel.png for the
 stages whose data exist. The dashed line in the RTT plots is the air-time floor.
