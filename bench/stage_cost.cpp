@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "rfsitl/channel/channel.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 
@@ -129,7 +129,7 @@ Cost measure(const scenario::Scenario& s, std::size_t active, std::size_t ticks,
           s.channel.noise_variance, false, s.seed, s.timing.sample_rate_hz, b, {}, {}});
   std::vector<Ecef> at(n);
   for (std::size_t i = 0; i < n; ++i) {
-    at[i] = channel::to_ecef(*s.nodes[i].initial_position, s.channel.origin);
+    at[i] = to_ecef(*s.nodes[i].initial_position, s.channel.origin);
     ch.matrix().set_position(i, at[i]);
     // Each node flies east or north at 10 m/s: every link has a Doppler.
     ch.matrix().set_velocity(i, i % 2 == 0 ? channel::LocalVelocity{10.0, 0.0, 0.0}

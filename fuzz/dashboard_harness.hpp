@@ -36,7 +36,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/link_table.hpp"

@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/position/mavlink/encoder.hpp"
 #include "rfsitl/position/mavlink_source/mavlink_endpoint.hpp"
 
@@ -204,7 +204,7 @@ int run_sender(const SendOptions& o) {
       }
       const LocalPosition at{v.start.x_m + o.east_mps * t, v.start.y_m + o.north_mps * t,
                              v.start.z_m + o.up_mps * t};
-      const GeodeticPosition g = channel::ecef_to_geodetic(channel::local_to_ecef(at, origin));
+      const GeodeticPosition g = ecef_to_geodetic(local_to_ecef(at, origin));
       mav::GlobalPositionInt p;
       p.time_boot_ms = static_cast<std::uint32_t>(1e3 * t);
       p.lat_e7 = static_cast<std::int32_t>(std::lround(g.lat_deg * 1e7));

@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "rfsitl/channel/fractional_delay.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 namespace rfsitl::channel {
 

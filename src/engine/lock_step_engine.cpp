@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "node_macs.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/common/spsc_ring.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
@@ -72,7 +72,7 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
     rx_groups_.reserve(n);
     node.decoded.reserve(8);
     if (s.nodes[i].initial_position) {
-      channel_.set_position(i, channel::to_ecef(*s.nodes[i].initial_position, s.channel.origin));
+      channel_.set_position(i, to_ecef(*s.nodes[i].initial_position, s.channel.origin));
     }
   }
   std::vector<double> sensitivity;
@@ -129,7 +129,7 @@ bool LockStepEngine::submit(std::size_t node, NetFrame&& frame) {
 
 void LockStepEngine::report(std::size_t node, const position::StateReport& r) {
   if (r.position) {
-    inbox_.move(node, channel::to_ecef(*r.position, scenario_.channel.origin),
+    inbox_.move(node, to_ecef(*r.position, scenario_.channel.origin),
                 r.velocity.has_value());
   }
   inbox_.set_motion(node, {r.velocity, r.attitude});

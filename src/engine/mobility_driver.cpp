@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/scenario/mobility_of.hpp"
 
 namespace rfsitl::engine {
@@ -41,7 +41,7 @@ bool MobilityDriver::update(
   const double t_s = static_cast<double>(now) / sample_rate_hz_;
   for (const Moving& m : moving_) {
     const position::mobility::MotionState state = m.model->state_at(t_s);
-    channel.set_position(m.index, channel::local_to_ecef(state.position, origin_));
+    channel.set_position(m.index, local_to_ecef(state.position, origin_));
     velocity(m.index, state.velocity);
   }
   next_ = now + interval_;

@@ -1,6 +1,6 @@
 #include "node_state_inbox.hpp"
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 namespace rfsitl::engine {
 
@@ -59,7 +59,7 @@ bool NodeStateInbox::apply(std::span<const StateUpdate> updates, double now_s,
         // Positions only: the velocity is estimated from them on the engine's clock.
         std::optional<position::Velocity> v;
         if (u.position) {
-          v = estimators_[i].update(now_s, channel::ecef_to_local(*u.position, origin_));
+          v = estimators_[i].update(now_s, ecef_to_local(*u.position, origin_));
         } else {
           estimators_[i].reset();
         }

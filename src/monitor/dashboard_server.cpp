@@ -19,7 +19,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/common/log_text.hpp"
 #include "rfsitl/monitor/control_token.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
@@ -196,13 +196,13 @@ class Server final : public Dashboard {
     if (index < positions.size()) {
       current = positions[index];
     } else if (const auto& initial = scenario_.nodes.at(index).initial_position) {
-      current = channel::to_ecef(*initial, scenario_.channel.origin);
+      current = to_ecef(*initial, scenario_.channel.origin);
     }
-    const double z = current ? channel::ecef_to_local(*current, scenario_.channel.origin).z_m : 0.0;
-    const double alt = current ? channel::ecef_to_geodetic(*current).alt_m : 0.0;
+    const double z = current ? ecef_to_local(*current, scenario_.channel.origin).z_m : 0.0;
+    const double alt = current ? ecef_to_geodetic(*current).alt_m : 0.0;
     const PositionRequest r = read_position_request(where, z, alt);
     if (!r.position) return "bad position: " + r.error;
-    engine_.set_position(index, channel::to_ecef(*r.position, scenario_.channel.origin));
+    engine_.set_position(index, to_ecef(*r.position, scenario_.channel.origin));
     spdlog::info("dashboard: node {} moved by a viewer", engine_.node_ids()[index]);
     return "";
   }

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
 
 namespace rfsitl::monitor {
@@ -18,8 +18,8 @@ namespace {
 
 nlohmann::json position_json(const std::optional<Ecef>& p, const GeodeticPosition& origin) {
   if (!p) return nullptr;
-  const LocalPosition l = channel::ecef_to_local(*p, origin);
-  const GeodeticPosition g = channel::ecef_to_geodetic(*p);
+  const LocalPosition l = ecef_to_local(*p, origin);
+  const GeodeticPosition g = ecef_to_geodetic(*p);
   return {{"x", round_to(l.x_m, 2)},       {"y", round_to(l.y_m, 2)},
           {"z", round_to(l.z_m, 2)},       {"lat", round_to(g.lat_deg, 7)},
           {"lon", round_to(g.lon_deg, 7)}, {"alt", round_to(g.alt_m, 2)}};

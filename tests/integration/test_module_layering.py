@@ -36,6 +36,21 @@ class ModuleLayeringTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
         self.assertIn("no cycles", r.stdout)
 
+    def test_mobility_does_not_link_the_channel(self):
+        # The geodesy mobility models need is common's: a model links no
+        # part of the channel (and including the channel would be an error).
+        sys.path.insert(0, os.path.dirname(CHECK))
+        import check_modules
+        _, declared = check_modules.check(SOURCE_DIR)
+        self.assertIn("position/mobility", declared)
+        self.assertNotIn("channel", check_modules.closure(declared, "position/mobility"))
+        with tempfile.TemporaryDirectory() as d:
+            self.copy_tree(d)
+            self.inject(d, "src/position/mobility/orbit_model.cpp", "rfsitl/channel/radio.hpp")
+            r = run_check(d)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        self.assertIn("module position/mobility does not link it", r.stdout)
+
     def test_a_cycle_between_scenario_and_engine_is_caught(self):
         with tempfile.TemporaryDirectory() as d:
             self.copy_tree(d)

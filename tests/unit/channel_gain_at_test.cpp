@@ -22,7 +22,7 @@
 
 #include "engine_run.hpp"
 #include "rfsitl/channel/channel_matrix.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/config/settings.hpp"
 #include "rfsitl/engine/engine_observer.hpp"
 #include "rfsitl/position/source/position_source.hpp"

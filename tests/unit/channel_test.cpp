@@ -8,7 +8,7 @@
 #include <complex>
 #include <vector>
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/channel/stages/path_loss.hpp"
 
 namespace rfsitl::channel {

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dashboard_test_support.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 namespace rfsitl::monitor {
 namespace {
@@ -118,7 +118,7 @@ LocalPosition node1_after_run(LiveDashboard& d) {
   d.engine->run(stop);
   const auto where = d.engine->positions().at(0);
   EXPECT_TRUE(where.has_value());
-  return channel::ecef_to_local(*where, d.s.channel.origin);
+  return ecef_to_local(*where, d.s.channel.origin);
 }
 
 TEST(DashboardControlToken, PostMovesOnlyWithTheRightBearerToken) {

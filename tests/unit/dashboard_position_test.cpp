@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "dashboard_test_support.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/monitor/position_request.hpp"
 #include "rfsitl/position/location_port/location_line.hpp"
 
@@ -51,7 +51,7 @@ TEST(DashboardPosition, PostRefusesWhatTheLocationPortRefusesAndAppliesTheRest) 
   d.engine->run(stop);
   const auto where = d.engine->positions().at(0);
   ASSERT_TRUE(where.has_value());
-  const LocalPosition l = channel::ecef_to_local(*where, d.s.channel.origin);
+  const LocalPosition l = ecef_to_local(*where, d.s.channel.origin);
   EXPECT_NEAR(l.x_m, 5.0, 1e-6);
   EXPECT_NEAR(l.y_m, 6.0, 1e-6);
   EXPECT_NEAR(l.z_m, 7.0, 1e-6);
@@ -133,7 +133,7 @@ TEST(DashboardPosition, NodeIdsDoNotAliasModulo2To32) {
   d.engine->run(stop);
   const auto where = d.engine->positions().at(0);
   ASSERT_TRUE(where.has_value());
-  EXPECT_GT(std::abs(channel::ecef_to_local(*where, d.s.channel.origin).x_m - 5.0), 0.5);
+  EXPECT_GT(std::abs(ecef_to_local(*where, d.s.channel.origin).x_m - 5.0), 0.5);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "rfsitl/channel/channel.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/channel/radio.hpp"
 #include "rfsitl/channel/stages/multipath.hpp"
 #include "rfsitl/config/settings.hpp"

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "engine_run.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/cluster/node_assignment.hpp"
 #include "rfsitl/monitor/live_view.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
@@ -198,7 +198,7 @@ TEST(EngineDistributed, AMoveReportedToOneRankMovesTheNodeOnEveryRank) {
   // the run (a location port's report). Every rank must see it there.
   s.nodes[5].mobility.reset();
   s.nodes[5].initial_position = Position{LocalPosition{5000, 0, 10}};
-  const Ecef near = channel::to_ecef(Position{LocalPosition{1, 1, 10}}, s.channel.origin);
+  const Ecef near = to_ecef(Position{LocalPosition{1, 1, 10}}, s.channel.origin);
   const auto ranks = run_ranks(s, 2, [&](std::size_t r, engine::Engine& e) {
     if (r == 0) e.set_position(5, near);
   });

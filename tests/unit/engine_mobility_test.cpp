@@ -8,7 +8,7 @@
 #include <set>
 
 #include "engine_run.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/mobility_registry.hpp"
 
@@ -78,7 +78,7 @@ TEST(EngineMobility, TheModelsPositionIsWhereTheEngineHasTheNode) {
   ASSERT_TRUE(positions.at(1).has_value());
   const double t_end = 20.0;
   const double a = kSpeed / kRadius * t_end;
-  const Ecef want = channel::local_to_ecef(
+  const Ecef want = local_to_ecef(
       LocalPosition{kCentreX + kRadius * std::cos(a), kRadius * std::sin(a), 0}, s.channel.origin);
   const Ecef& got = *positions[1];
   EXPECT_LT(std::hypot(got.x - want.x, got.y - want.y, got.z - want.z), kSpeed * 0.035);

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "engine_run.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
 #include "scripted_position_source.hpp"
 
@@ -34,7 +34,7 @@ TEST(EnginePositionSource, ReportsMoveNodesWithTheirMotion) {
   const RunResult r = run_engine(s, setup);
   const auto positions = r.engine->positions();
   ASSERT_TRUE(positions[1]);
-  const LocalPosition p2 = channel::ecef_to_local(*positions[1], s.channel.origin);
+  const LocalPosition p2 = ecef_to_local(*positions[1], s.channel.origin);
   EXPECT_NEAR(p2.x_m, 100.0, 1e-6);
   EXPECT_NEAR(p2.z_m, 10.0, 1e-6);
   const auto motions = r.engine->motions();

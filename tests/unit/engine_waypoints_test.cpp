@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "engine_run.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 
 namespace rfsitl::testing {
@@ -42,9 +42,9 @@ LocalPosition node1_at(double t) {
 // Node 2: from A to B at 5 m/s. Local east/north/up is a rigid transform of
 // ECEF, so a straight leg there is a straight leg in ECEF at the same speed.
 Ecef node2_at(double t) {
-  const Ecef a = channel::geodetic_to_ecef({43.0, -78.79, 30});
-  const Ecef b = channel::geodetic_to_ecef({43.001, -78.79, 30});
-  const double f = std::min(1.0, 5 * t / channel::distance_m(a, b));
+  const Ecef a = geodetic_to_ecef({43.0, -78.79, 30});
+  const Ecef b = geodetic_to_ecef({43.001, -78.79, 30});
+  const double f = std::min(1.0, 5 * t / distance_m(a, b));
   return {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
 }
 
@@ -58,16 +58,16 @@ std::vector<std::optional<Ecef>> positions_after(double t) {
 TEST(EngineWaypoints, NodesAreOnTheirLegsAtEachUpdate) {
   const scenario::Scenario s = scenario::parse_scenario(kScenario, "waypoints.yaml");
   const GeodeticPosition& origin = s.channel.origin;
-  const double leg2_s = channel::distance_m(channel::geodetic_to_ecef({43.0, -78.79, 30}),
-                                            channel::geodetic_to_ecef({43.001, -78.79, 30})) /
+  const double leg2_s = distance_m(geodetic_to_ecef({43.0, -78.79, 30}),
+                                            geodetic_to_ecef({43.001, -78.79, 30})) /
                         5;
   ASSERT_NEAR(leg2_s, 22.2, 0.1);  // 0.001 degree of latitude is about 111 m
   for (const double t : {0.0, 2.5, 10.0, 14.2, 21.0, 23.0}) {
     SCOPED_TRACE("t = " + std::to_string(t));
     const auto p = positions_after(t);
     ASSERT_TRUE(p.at(0) && p.at(1));
-    EXPECT_LT(channel::distance_m(*p[0], channel::local_to_ecef(node1_at(t), origin)), 1e-6);
-    EXPECT_LT(channel::distance_m(*p[1], node2_at(t)), 1e-6);
+    EXPECT_LT(distance_m(*p[0], local_to_ecef(node1_at(t), origin)), 1e-6);
+    EXPECT_LT(distance_m(*p[1], node2_at(t)), 1e-6);
   }
 }
 
@@ -76,11 +76,11 @@ TEST(EngineWaypoints, BetweenUpdatesANodeHoldsItsLastUpdatedPosition) {
   const double t = 2.5 + kUpdate / 2;  // half an interval after the update at 2.5 s
   const auto p = positions_after(t);
   ASSERT_TRUE(p.at(0).has_value());
-  const Ecef held = channel::local_to_ecef(node1_at(2.5), s.channel.origin);
-  EXPECT_LT(channel::distance_m(*p[0], held), 1e-6);
+  const Ecef held = local_to_ecef(node1_at(2.5), s.channel.origin);
+  EXPECT_LT(distance_m(*p[0], held), 1e-6);
   // Behind the path by the distance flown since, which the interval bounds.
   const double behind =
-      channel::distance_m(*p[0], channel::local_to_ecef(node1_at(t), s.channel.origin));
+      distance_m(*p[0], local_to_ecef(node1_at(t), s.channel.origin));
   EXPECT_NEAR(behind, 10 * kUpdate / 2, 1e-6);
   EXPECT_LE(behind, 10 * kUpdate);
 }

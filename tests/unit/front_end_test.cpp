@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "rfsitl/channel/channel.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/phy/ofdm/rates.hpp"
 #include "rfsitl/phy/ofdm/receiver.hpp"
 #include "rfsitl/phy/ofdm/waveform.hpp"

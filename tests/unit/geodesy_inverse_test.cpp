@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 namespace rfsitl::channel {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 #include <gtest/gtest.h>
 

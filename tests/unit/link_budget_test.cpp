@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "rfsitl/channel/channel_matrix.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "spy_gain_stage.hpp"
 
 namespace rfsitl::channel {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "rfsitl/channel/channel_matrix.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/channel/stages/path_loss.hpp"
 
 namespace rfsitl::channel {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "mobility_test_support.hpp"
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/position/mobility/orbit_model.hpp"
 #include "rfsitl/position/mobility/static_model.hpp"
 
@@ -28,7 +28,7 @@ TEST(MobilityStatic, StaysPutWithZeroVelocityInEitherFrame) {
   // A WGS84 point lands where the channel's own geodesy puts it.
   const GeodeticPosition g{43.0018, -78.788, 230.0};
   StaticModel geo(StaticSettings{g}, kOrigin);
-  const LocalPosition want = channel::ecef_to_local(channel::geodetic_to_ecef(g), kOrigin);
+  const LocalPosition want = ecef_to_local(geodetic_to_ecef(g), kOrigin);
   EXPECT_TRUE(near(geo.state_at(7).position, want, 1e-9));
   EXPECT_NEAR(want.y_m, 111.0, 1.0);  // a thousandth of a degree north
 }

@@ -3,14 +3,14 @@
 #include <cmath>
 #include <variant>
 
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/common/position_limits.hpp"
 
 namespace rfsitl::position::mobility {
 
 LocalPosition to_local(const Position& p, const GeodeticPosition& origin) {
   if (const auto* l = std::get_if<LocalPosition>(&p)) return *l;
-  return channel::ecef_to_local(channel::geodetic_to_ecef(std::get<GeodeticPosition>(p)), origin);
+  return ecef_to_local(geodetic_to_ecef(std::get<GeodeticPosition>(p)), origin);
 }
 
 std::string local_coordinate_error(const LocalPosition& p) {

@@ -18,7 +18,7 @@ inline constexpr double kMaxLocalCoordinateM = 1e8;
 std::string local_coordinate_error(const LocalPosition& p);
 
 /// `p` in local ENU metres around `origin`: a LocalPosition as it is, a
-/// GeodeticPosition converted exactly (through ECEF, rfsitl/channel/geodesy.hpp).
+/// GeodeticPosition converted exactly (through ECEF, rfsitl/common/geodesy.hpp).
 /// Models call this once, at construction, never per evaluation, so a leg
 /// between two geodetic points is a straight chord in the local frame, not a
 /// path at constant altitude: between two points at the same altitude L apart

@@ -3,7 +3,7 @@
 /// never a flat-earth approximation.
 #include "rfsitl/common/position.hpp"
 
-namespace rfsitl::channel {
+namespace rfsitl {
 
 /// WGS84 geodetic (lat, lon, ellipsoidal height) to ECEF.
 Ecef geodetic_to_ecef(const GeodeticPosition& p);
@@ -24,4 +24,4 @@ GeodeticPosition ecef_to_geodetic(const Ecef& p);
 /// Euclidean distance in metres.
 double distance_m(const Ecef& a, const Ecef& b);
 
-}  // namespace rfsitl::channel
+}  // namespace rfsitl

@@ -1,11 +1,11 @@
-#include "rfsitl/channel/geodesy.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <type_traits>
 #include <variant>
 
-namespace rfsitl::channel {
+namespace rfsitl {
 namespace {
 
 // WGS84 defining constants (NIMA TR8350.2). The first eccentricity squared is
@@ -104,4 +104,4 @@ double distance_m(const Ecef& a, const Ecef& b) {
   return std::hypot(a.x - b.x, a.y - b.y, a.z - b.z);
 }
 
-}  // namespace rfsitl::channel
+}  // namespace rfsitl
