@@ -129,8 +129,7 @@ bool LockStepEngine::submit(std::size_t node, NetFrame&& frame) {
 
 void LockStepEngine::report(std::size_t node, const position::StateReport& r) {
   if (r.position) {
-    inbox_.move(node, to_ecef(*r.position, scenario_.channel.origin),
-                r.velocity.has_value());
+    inbox_.move(node, to_ecef(*r.position, scenario_.channel.origin), r.velocity.has_value());
   }
   inbox_.set_motion(node, {r.velocity, r.attitude});
 }

@@ -8,8 +8,8 @@
 #include <complex>
 #include <vector>
 
-#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/channel/stages/path_loss.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 namespace rfsitl::channel {
 namespace {

@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "rfsitl/channel/channel.hpp"
-#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/channel/radio.hpp"
 #include "rfsitl/channel/stages/multipath.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/config/settings.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
 

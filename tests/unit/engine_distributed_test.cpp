@@ -9,8 +9,8 @@
 #include <thread>
 
 #include "engine_run.hpp"
-#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/cluster/node_assignment.hpp"
+#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/monitor/live_view.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/mac_registry.hpp"

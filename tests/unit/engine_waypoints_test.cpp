@@ -58,9 +58,8 @@ std::vector<std::optional<Ecef>> positions_after(double t) {
 TEST(EngineWaypoints, NodesAreOnTheirLegsAtEachUpdate) {
   const scenario::Scenario s = scenario::parse_scenario(kScenario, "waypoints.yaml");
   const GeodeticPosition& origin = s.channel.origin;
-  const double leg2_s = distance_m(geodetic_to_ecef({43.0, -78.79, 30}),
-                                            geodetic_to_ecef({43.001, -78.79, 30})) /
-                        5;
+  const double leg2_s =
+      distance_m(geodetic_to_ecef({43.0, -78.79, 30}), geodetic_to_ecef({43.001, -78.79, 30})) / 5;
   ASSERT_NEAR(leg2_s, 22.2, 0.1);  // 0.001 degree of latitude is about 111 m
   for (const double t : {0.0, 2.5, 10.0, 14.2, 21.0, 23.0}) {
     SCOPED_TRACE("t = " + std::to_string(t));
@@ -79,8 +78,7 @@ TEST(EngineWaypoints, BetweenUpdatesANodeHoldsItsLastUpdatedPosition) {
   const Ecef held = local_to_ecef(node1_at(2.5), s.channel.origin);
   EXPECT_LT(distance_m(*p[0], held), 1e-6);
   // Behind the path by the distance flown since, which the interval bounds.
-  const double behind =
-      distance_m(*p[0], local_to_ecef(node1_at(t), s.channel.origin));
+  const double behind = distance_m(*p[0], local_to_ecef(node1_at(t), s.channel.origin));
   EXPECT_NEAR(behind, 10 * kUpdate / 2, 1e-6);
   EXPECT_LE(behind, 10 * kUpdate);
 }

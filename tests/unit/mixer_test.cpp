@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "rfsitl/channel/channel_matrix.hpp"
-#include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/channel/stages/path_loss.hpp"
+#include "rfsitl/common/geodesy.hpp"
 
 namespace rfsitl::channel {
 namespace {
