@@ -1,7 +1,8 @@
 #pragma once
 /// What a node's MAC counts. Written by the engine thread (the MAC's), read by
 /// any thread (reports); every field is a relaxed atomic. Header-only, so that
-/// the engine's counters hold it without linking the MACs.
+/// the engine's counters hold it without linking the MACs. The node's counter
+/// table (engine/node_counter_fields.hpp) names each and copies it.
 #include <atomic>
 #include <cstdint>
 
@@ -31,28 +32,6 @@ struct MacCounters {
 
   static void bump(std::atomic<std::uint64_t>& c, std::uint64_t by = 1) {
     c.fetch_add(by, std::memory_order_relaxed);
-  }
-
-  void assign(const MacCountersSnapshot& s) {
-    const auto wr = [](std::atomic<std::uint64_t>& a, std::uint64_t v) {
-      a.store(v, std::memory_order_relaxed);
-    };
-    wr(retries, s.retries);
-    wr(ack_timeouts, s.ack_timeouts);
-    wr(retry_drops, s.retry_drops);
-    wr(duplicates, s.duplicates);
-    wr(control_sent, s.control_sent);
-    wr(backoff_slots, s.backoff_slots);
-    wr(busy_ticks, s.busy_ticks);
-    wr(sensed_ticks, s.sensed_ticks);
-  }
-
-  MacCountersSnapshot snapshot() const {
-    const auto rd = [](const std::atomic<std::uint64_t>& a) {
-      return a.load(std::memory_order_relaxed);
-    };
-    return {rd(retries),      rd(ack_timeouts),  rd(retry_drops), rd(duplicates),
-            rd(control_sent), rd(backoff_slots), rd(busy_ticks),  rd(sensed_ticks)};
   }
 };
 
