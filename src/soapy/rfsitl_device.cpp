@@ -20,6 +20,13 @@ constexpr double kMinFrequencyHz = 1e6, kMaxFrequencyHz = 1e11;
 
 constexpr const char* kConnectedSensor = "connected";
 
+/// How long getHardwareTime() waits for the emulator's first tick. A running
+/// emulator ticks within milliseconds (a loaded one within a second); one
+/// that waits for its other external nodes does so up to its
+/// external.start_timeout_s (default 30 s), and an application that asks the
+/// time before it made all their devices would otherwise hang that long.
+constexpr long kFirstTickTimeoutMs = 10'000;
+
 /// The nodes this process's devices hold: (socket, node id).
 std::mutex held_mutex;
 std::set<std::pair<std::string, NodeId>> held_nodes;
@@ -340,7 +347,18 @@ std::string RfsitlDevice::readSensor(const std::string& key) const {
 }
 
 long long RfsitlDevice::getHardwareTime(const std::string&) const {
-  return streamer_->to_ns(streamer_->now());
+  SampleTime t = 0;
+  if (!streamer_->now_after_first_tick(t, kFirstTickTimeoutMs * 1000)) {
+    const std::string why =
+        streamer_->connected()
+            ? "no tick came within " + std::to_string(kFirstTickTimeoutMs / 1000) +
+                  " s (an emulator waits for all its external nodes before its first tick, "
+                  "up to external.start_timeout_s: make every node's device first)"
+            : "the emulator closed the connection before its first tick";
+    throw std::runtime_error("rfsitl node " + std::to_string(node_.node_id) + " of " +
+                             socket_path_ + ": no hardware time yet: " + why);
+  }
+  return streamer_->to_ns(t);
 }
 
 void RfsitlDevice::setHardwareTime(long long, const std::string&) {
