@@ -58,9 +58,13 @@ bool RfsitlDevice::held_here(const std::string& socket_path, NodeId node_id) {
   return held_nodes.contains({socket_path, node_id});
 }
 
+std::string RfsitlDevice::label_of(const external::DiscoveredNode& node) {
+  return "rfsitl " + node.label;
+}
+
 SoapySDR::Kwargs RfsitlDevice::getHardwareInfo() const {
   return {{"node", std::to_string(node_.node_id)},
-          {"label", node_.label},
+          {"label", label_of(node_)},
           {"socket", socket_path_},
           {"tick_samples", std::to_string(streamer_->tick_samples())},
           {"rx_overflows", std::to_string(streamer_->overflows())},

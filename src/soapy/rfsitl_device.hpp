@@ -37,6 +37,10 @@ class RfsitlDevice final : public SoapySDR::Device {
   /// them identically (GNU Radio's Soapy source and sink each make one).
   static bool held_here(const std::string& socket_path, NodeId node_id);
 
+  /// The device's label, the same in find's answer and getHardwareInfo()
+  /// (SoapySDRUtil --find and --probe): "rfsitl <scenario> node <id>".
+  static std::string label_of(const external::DiscoveredNode& node);
+
   std::string getDriverKey() const override { return "rfsitl"; }
   std::string getHardwareKey() const override { return "rfsitl"; }
   SoapySDR::Kwargs getHardwareInfo() const override;
