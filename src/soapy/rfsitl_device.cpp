@@ -2,6 +2,7 @@
 
 #include <SoapySDR/Constants.h>
 #include <SoapySDR/Errors.h>
+#include <SoapySDR/Logger.hpp>
 
 #include <cmath>
 #include <mutex>
@@ -44,6 +45,10 @@ RfsitlDevice::RfsitlDevice(const std::string& socket_path, const external::Disco
                            const NodeStreamer::Settings& settings)
     : socket_path_(socket_path), node_(node), streamer_(std::make_unique<NodeStreamer>(settings)) {
   for (auto& p : paths_) p.frequency_hz = node_.carrier_hz;
+  paths_[0].gain_db = kRxGain.default_db;
+  paths_[1].gain_db = kTxGain.default_db;
+  apply(SOAPY_SDR_RX);
+  apply(SOAPY_SDR_TX);
   std::lock_guard lock(held_mutex);
   held_nodes.emplace(socket_path_, node_.node_id);
 }
@@ -102,7 +107,7 @@ void RfsitlDevice::apply(int direction) {
   PathTuning t;
   t.offset_hz = p.frequency_hz - node_.carrier_hz;
   t.in_band = std::abs(t.offset_hz) < fs / 2.0;
-  t.gain_db = p.gain_db;
+  t.gain_db = gain_control(direction).scale_db(p.gain_db);
   if (direction == SOAPY_SDR_RX) {
     streamer_->set_rx_tuning(t);
   } else {
@@ -224,13 +229,22 @@ std::vector<std::string> RfsitlDevice::listGains(int direction, size_t channel) 
   return {kGainName};
 }
 
+const GainControl& RfsitlDevice::gain_control(int direction) {
+  return direction == SOAPY_SDR_RX ? kRxGain : kTxGain;
+}
+
 void RfsitlDevice::setGain(int direction, size_t channel, double value) {
-  const SoapySDR::Range r = getGainRange(direction, channel);
-  if (!(value >= r.minimum() && value <= r.maximum())) {
-    throw std::runtime_error("rfsitl: gain " + std::to_string(value) + " dB outside " +
-                             std::to_string(r.minimum()) + ".." + std::to_string(r.maximum()));
+  Path& p = path(direction, channel);
+  const GainControl& g = gain_control(direction);
+  const double set = g.clamp(value);
+  if (std::isnan(set)) throw std::runtime_error("rfsitl: gain NaN is not a number of dB");
+  if (set != value) {
+    SoapySDR::logf(SOAPY_SDR_WARNING,
+                   "rfsitl node %u: %s gain %g dB is outside %g..%g dB: set to %g",
+                   unsigned{node_.node_id}, direction == SOAPY_SDR_RX ? "RX" : "TX", value,
+                   g.min_db, g.max_db, set);
   }
-  path(direction, channel).gain_db = value;
+  p.gain_db = set;
   apply(direction);
 }
 
@@ -249,8 +263,8 @@ double RfsitlDevice::getGain(int direction, size_t channel, const std::string&) 
 
 SoapySDR::Range RfsitlDevice::getGainRange(int direction, size_t channel) const {
   check_channel(direction, channel);
-  return direction == SOAPY_SDR_RX ? SoapySDR::Range(kRxGainMinDb, kRxGainMaxDb, 0.0)
-                                   : SoapySDR::Range(kTxGainMinDb, kTxGainMaxDb, 0.0);
+  const GainControl& g = gain_control(direction);
+  return {g.min_db, g.max_db, 0.0};
 }
 
 SoapySDR::Range RfsitlDevice::getGainRange(int direction, size_t channel,

@@ -3,8 +3,9 @@
 /// one RX and one TX channel (channel 0). The sample rate is the emulator's
 /// and cannot change; the frequency is the scenario's radio carrier, and
 /// tuning elsewhere shifts the samples (inside +-fs/2) or silences the
-/// direction (outside); gains scale the samples; hardware time is the virtual
-/// time in nanoseconds. Streaming goes through NodeStreamer, whose thread
+/// direction (outside); gains scale the samples onto one digital full scale
+/// (signal_path.hpp: kRxGain, kTxGain); hardware time is the virtual time in
+/// nanoseconds. Streaming goes through NodeStreamer, whose thread
 /// answers the emulator, so a slow application never stalls it.
 #include <SoapySDR/Device.hpp>
 
@@ -17,10 +18,6 @@
 #include "sample_formats.hpp"
 
 namespace rfsitl::soapy {
-
-/// Gain ranges in dB (0 dB leaves the samples as the emulator has them).
-inline constexpr double kRxGainMinDb = -40.0, kRxGainMaxDb = 40.0;
-inline constexpr double kTxGainMinDb = -60.0, kTxGainMaxDb = 0.0;
 
 class RfsitlDevice final : public SoapySDR::Device {
  public:
@@ -70,6 +67,8 @@ class RfsitlDevice final : public SoapySDR::Device {
   std::string getAntenna(int direction, size_t channel) const override;
 
   std::vector<std::string> listGains(int direction, size_t channel) const override;
+  /// A value outside getGainRange() is clamped into it, with a warning in
+  /// SoapySDR's log (as UHD does); NaN throws std::runtime_error.
   void setGain(int direction, size_t channel, double value) override;
   void setGain(int direction, size_t channel, const std::string& name, double value) override;
   double getGain(int direction, size_t channel) const override;
@@ -117,13 +116,14 @@ class RfsitlDevice final : public SoapySDR::Device {
   /// One direction's settings; index 0 = RX, 1 = TX.
   struct Path {
     double frequency_hz = 0.0;
-    double gain_db = 0.0;
+    double gain_db = 0.0;  ///< the setting (GainControl), not the scale
     bool stream_open = false;
     SampleFormat format = SampleFormat::kCF32;
   };
   Path& path(int direction, size_t channel);
   const Path& path(int direction, size_t channel) const;
   Path& path_of(SoapySDR::Stream* stream);
+  static const GainControl& gain_control(int direction);
   void apply(int direction);
 
   const std::string socket_path_;
