@@ -106,9 +106,9 @@ class RfsitlDevice final : public SoapySDR::Device {
   bool hasHardwareTime(const std::string& what) const override { return what.empty(); }
   /// The start of the emulator's latest tick, in ns. Before the first tick
   /// (the device was made a moment ago, or the emulator waits for its other
-  /// external nodes) it waits for it, up to 10 s (kFirstTickTimeoutMs), so that the
-  /// time is never a made-up 0; throws std::runtime_error saying why when
-  /// none comes.
+  /// external nodes) it waits for it, up to 10 s (kFirstTickTimeoutMs), so
+  /// that the time is never a made-up 0; throws std::runtime_error saying
+  /// why when none comes.
   long long getHardwareTime(const std::string& what) const override;
   void setHardwareTime(long long time_ns, const std::string& what) override;
 
