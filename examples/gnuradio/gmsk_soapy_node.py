@@ -57,6 +57,12 @@ class GmskSoapyNode(gr.top_block):
         # the block's own lock, which its reading thread hardly ever releases
         # while the device fails.)
         self.device = SoapySDR.Device(SoapySDR.KwargsFromString("driver=rfsitl," + device_args))
+        # The top of the RX gain range passes the emulator's samples unchanged:
+        # GmskRx then sees what it sees behind gr-rfsitl's source in
+        # gmsk_node.py (its demodulator does not mind the level; a squelch or
+        # an SNR estimate beside it would).
+        self.device.setGain(SoapySDR.SOAPY_SDR_RX, 0,
+                            self.device.getGainRange(SoapySDR.SOAPY_SDR_RX, 0).maximum())
 
     def connected(self):
         return self.device.readSensor("connected") == "true"

@@ -110,12 +110,13 @@ SoapySDR::KwargsList find_rfsitl(const SoapySDR::Kwargs& args) {
   }
   SoapySDR::KwargsList list;
   for (const auto& f : found) {
-    list.push_back({{"driver", "rfsitl"},
-                    {"socket", f.socket},
-                    {"node", std::to_string(f.node.node_id)},
-                    {"label", "rfsitl " + f.node.label + (f.node.claimed ? " (claimed)" : "")},
-                    {"serial", f.socket + "#" + std::to_string(f.node.node_id)},
-                    {"claimed", f.node.claimed ? "1" : "0"}});
+    list.push_back(
+        {{"driver", "rfsitl"},
+         {"socket", f.socket},
+         {"node", std::to_string(f.node.node_id)},
+         {"label", RfsitlDevice::label_of(f.node) + (f.node.claimed ? " (claimed)" : "")},
+         {"serial", f.socket + "#" + std::to_string(f.node.node_id)},
+         {"claimed", f.node.claimed ? "1" : "0"}});
   }
   return list;
 }

@@ -2,6 +2,7 @@
 
 #include <SoapySDR/Constants.h>
 #include <SoapySDR/Errors.h>
+#include <SoapySDR/Logger.hpp>
 
 #include <cmath>
 #include <mutex>
@@ -20,6 +21,13 @@ constexpr double kMinFrequencyHz = 1e6, kMaxFrequencyHz = 1e11;
 
 constexpr const char* kConnectedSensor = "connected";
 
+/// How long getHardwareTime() waits for the emulator's first tick. A running
+/// emulator ticks within milliseconds (a loaded one within a second); one
+/// that waits for its other external nodes does so up to its
+/// external.start_timeout_s (default 30 s), and an application that asks the
+/// time before it made all their devices would otherwise hang that long.
+constexpr long kFirstTickTimeoutMs = 10'000;
+
 /// The nodes this process's devices hold: (socket, node id).
 std::mutex held_mutex;
 std::set<std::pair<std::string, NodeId>> held_nodes;
@@ -37,6 +45,10 @@ RfsitlDevice::RfsitlDevice(const std::string& socket_path, const external::Disco
                            const NodeStreamer::Settings& settings)
     : socket_path_(socket_path), node_(node), streamer_(std::make_unique<NodeStreamer>(settings)) {
   for (auto& p : paths_) p.frequency_hz = node_.carrier_hz;
+  paths_[0].gain_db = kRxGain.default_db;
+  paths_[1].gain_db = kTxGain.default_db;
+  apply(SOAPY_SDR_RX);
+  apply(SOAPY_SDR_TX);
   std::lock_guard lock(held_mutex);
   held_nodes.emplace(socket_path_, node_.node_id);
 }
@@ -51,9 +63,13 @@ bool RfsitlDevice::held_here(const std::string& socket_path, NodeId node_id) {
   return held_nodes.contains({socket_path, node_id});
 }
 
+std::string RfsitlDevice::label_of(const external::DiscoveredNode& node) {
+  return "rfsitl " + node.label;
+}
+
 SoapySDR::Kwargs RfsitlDevice::getHardwareInfo() const {
   return {{"node", std::to_string(node_.node_id)},
-          {"label", node_.label},
+          {"label", label_of(node_)},
           {"socket", socket_path_},
           {"tick_samples", std::to_string(streamer_->tick_samples())},
           {"rx_overflows", std::to_string(streamer_->overflows())},
@@ -91,7 +107,7 @@ void RfsitlDevice::apply(int direction) {
   PathTuning t;
   t.offset_hz = p.frequency_hz - node_.carrier_hz;
   t.in_band = std::abs(t.offset_hz) < fs / 2.0;
-  t.gain_db = p.gain_db;
+  t.gain_db = gain_control(direction).scale_db(p.gain_db);
   if (direction == SOAPY_SDR_RX) {
     streamer_->set_rx_tuning(t);
   } else {
@@ -213,13 +229,22 @@ std::vector<std::string> RfsitlDevice::listGains(int direction, size_t channel) 
   return {kGainName};
 }
 
+const GainControl& RfsitlDevice::gain_control(int direction) {
+  return direction == SOAPY_SDR_RX ? kRxGain : kTxGain;
+}
+
 void RfsitlDevice::setGain(int direction, size_t channel, double value) {
-  const SoapySDR::Range r = getGainRange(direction, channel);
-  if (!(value >= r.minimum() && value <= r.maximum())) {
-    throw std::runtime_error("rfsitl: gain " + std::to_string(value) + " dB outside " +
-                             std::to_string(r.minimum()) + ".." + std::to_string(r.maximum()));
+  Path& p = path(direction, channel);
+  const GainControl& g = gain_control(direction);
+  const double set = g.clamp(value);
+  if (std::isnan(set)) throw std::runtime_error("rfsitl: gain NaN is not a number of dB");
+  if (set != value) {
+    SoapySDR::logf(SOAPY_SDR_WARNING,
+                   "rfsitl node %u: %s gain %g dB is outside %g..%g dB: set to %g",
+                   unsigned{node_.node_id}, direction == SOAPY_SDR_RX ? "RX" : "TX", value,
+                   g.min_db, g.max_db, set);
   }
-  path(direction, channel).gain_db = value;
+  p.gain_db = set;
   apply(direction);
 }
 
@@ -238,8 +263,8 @@ double RfsitlDevice::getGain(int direction, size_t channel, const std::string&) 
 
 SoapySDR::Range RfsitlDevice::getGainRange(int direction, size_t channel) const {
   check_channel(direction, channel);
-  return direction == SOAPY_SDR_RX ? SoapySDR::Range(kRxGainMinDb, kRxGainMaxDb, 0.0)
-                                   : SoapySDR::Range(kTxGainMinDb, kTxGainMaxDb, 0.0);
+  const GainControl& g = gain_control(direction);
+  return {g.min_db, g.max_db, 0.0};
 }
 
 SoapySDR::Range RfsitlDevice::getGainRange(int direction, size_t channel,
@@ -340,7 +365,18 @@ std::string RfsitlDevice::readSensor(const std::string& key) const {
 }
 
 long long RfsitlDevice::getHardwareTime(const std::string&) const {
-  return streamer_->to_ns(streamer_->now());
+  SampleTime t = 0;
+  if (!streamer_->now_after_first_tick(t, kFirstTickTimeoutMs * 1000)) {
+    const std::string why =
+        streamer_->connected()
+            ? "no tick came within " + std::to_string(kFirstTickTimeoutMs / 1000) +
+                  " s (an emulator waits for all its external nodes before its first tick, "
+                  "up to external.start_timeout_s: make every node's device first)"
+            : "the emulator closed the connection before its first tick";
+    throw std::runtime_error("rfsitl node " + std::to_string(node_.node_id) + " of " +
+                             socket_path_ + ": no hardware time yet: " + why);
+  }
+  return streamer_->to_ns(t);
 }
 
 void RfsitlDevice::setHardwareTime(long long, const std::string&) {

@@ -3,8 +3,9 @@
 /// one RX and one TX channel (channel 0). The sample rate is the emulator's
 /// and cannot change; the frequency is the scenario's radio carrier, and
 /// tuning elsewhere shifts the samples (inside +-fs/2) or silences the
-/// direction (outside); gains scale the samples; hardware time is the virtual
-/// time in nanoseconds. Streaming goes through NodeStreamer, whose thread
+/// direction (outside); gains scale the samples onto one digital full scale
+/// (signal_path.hpp: kRxGain, kTxGain); hardware time is the virtual time in
+/// nanoseconds. Streaming goes through NodeStreamer, whose thread
 /// answers the emulator, so a slow application never stalls it.
 #include <SoapySDR/Device.hpp>
 
@@ -17,10 +18,6 @@
 #include "sample_formats.hpp"
 
 namespace rfsitl::soapy {
-
-/// Gain ranges in dB (0 dB leaves the samples as the emulator has them).
-inline constexpr double kRxGainMinDb = -40.0, kRxGainMaxDb = 40.0;
-inline constexpr double kTxGainMinDb = -60.0, kTxGainMaxDb = 0.0;
 
 class RfsitlDevice final : public SoapySDR::Device {
  public:
@@ -36,6 +33,10 @@ class RfsitlDevice final : public SoapySDR::Device {
   /// shares one device among the makes of a process only when find answers
   /// them identically (GNU Radio's Soapy source and sink each make one).
   static bool held_here(const std::string& socket_path, NodeId node_id);
+
+  /// The device's label, the same in find's answer and getHardwareInfo()
+  /// (SoapySDRUtil --find and --probe): "rfsitl <scenario> node <id>".
+  static std::string label_of(const external::DiscoveredNode& node);
 
   std::string getDriverKey() const override { return "rfsitl"; }
   std::string getHardwareKey() const override { return "rfsitl"; }
@@ -66,6 +67,8 @@ class RfsitlDevice final : public SoapySDR::Device {
   std::string getAntenna(int direction, size_t channel) const override;
 
   std::vector<std::string> listGains(int direction, size_t channel) const override;
+  /// A value outside getGainRange() is clamped into it, with a warning in
+  /// SoapySDR's log (as UHD does); NaN throws std::runtime_error.
   void setGain(int direction, size_t channel, double value) override;
   void setGain(int direction, size_t channel, const std::string& name, double value) override;
   double getGain(int direction, size_t channel) const override;
@@ -101,6 +104,11 @@ class RfsitlDevice final : public SoapySDR::Device {
   std::string readSensor(const std::string& key) const override;
 
   bool hasHardwareTime(const std::string& what) const override { return what.empty(); }
+  /// The start of the emulator's latest tick, in ns. Before the first tick
+  /// (the device was made a moment ago, or the emulator waits for its other
+  /// external nodes) it waits for it, up to 10 s (kFirstTickTimeoutMs), so
+  /// that the time is never a made-up 0; throws std::runtime_error saying
+  /// why when none comes.
   long long getHardwareTime(const std::string& what) const override;
   void setHardwareTime(long long time_ns, const std::string& what) override;
 
@@ -108,13 +116,14 @@ class RfsitlDevice final : public SoapySDR::Device {
   /// One direction's settings; index 0 = RX, 1 = TX.
   struct Path {
     double frequency_hz = 0.0;
-    double gain_db = 0.0;
+    double gain_db = 0.0;  ///< the setting (GainControl), not the scale
     bool stream_open = false;
     SampleFormat format = SampleFormat::kCF32;
   };
   Path& path(int direction, size_t channel);
   const Path& path(int direction, size_t channel) const;
   Path& path_of(SoapySDR::Stream* stream);
+  static const GainControl& gain_control(int direction);
   void apply(int direction);
 
   const std::string socket_path_;

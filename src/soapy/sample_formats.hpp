@@ -1,8 +1,9 @@
 #pragma once
 /// The stream formats the module offers and their conversion to and from the
-/// emulator's cf32. Full scale is 1.0 for CF32 (the native format, the
-/// emulator's unit-power samples), 32767 for CS16 and 127 for CS8; integer
-/// conversions round and saturate, so a loud signal clips instead of wrapping.
+/// module's cf32 samples. One digital full scale for all: 1.0 in CF32 (the
+/// native format), 32767 in CS16, 127 in CS8; the gains map the emulator's
+/// units onto it (signal_path.hpp). Integer conversions round and saturate,
+/// so a loud signal clips instead of wrapping.
 #include <SoapySDR/Formats.hpp>
 
 #include <algorithm>

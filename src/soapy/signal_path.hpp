@@ -2,6 +2,7 @@
 /// What the module does to the samples of one direction, pure and separate
 /// so that unit tests check it without an emulator: the frequency offset of
 /// where the application is tuned, and its gain.
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -11,12 +12,45 @@
 
 namespace rfsitl::soapy {
 
+/// A direction's gain control as SoapySDR shows it: the settings an
+/// application may choose, the one a new device has, and the one at which
+/// samples pass unchanged, in the emulator's native units (its receivers'
+/// noise has unit power; a transmitter at full scale sends unit power).
+struct GainControl {
+  double min_db = 0.0;
+  double max_db = 0.0;
+  double default_db = 0.0;
+  double unity_db = 0.0;
+
+  /// `value` moved into [min_db, max_db]: a real SDR's driver (UHD's) clamps
+  /// an out-of-range gain rather than refusing it. NaN stays NaN.
+  double clamp(double value) const {
+    return std::isnan(value) ? value : std::clamp(value, min_db, max_db);
+  }
+  /// The amplitude scale, in dB, of setting `value` (PathTuning::gain_db).
+  double scale_db(double value) const { return value - unity_db; }
+};
+
+/// RX. Every stream format shares one digital full scale (CF32 1.0 = CS16
+/// 32767 = CS8 127, as getNativeStreamFormat says), and the gain maps the
+/// emulator's native units onto it like a real receiver's gain maps antenna
+/// power onto its ADC: the top of the range, 96 dB, passes the samples
+/// unchanged (CF32 in native units); the default, 30 dB, puts unit-power
+/// noise 66 dB below full scale (16 LSB RMS of complex magnitude in CS16,
+/// 11.6 per component), leaving 66 dB above the noise before a steady signal
+/// clips; 0 dB is 96 dB below native, for links up to about that far above
+/// the noise.
+inline constexpr GainControl kRxGain{0.0, 96.0, 30.0, 96.0};
+/// TX: full scale (CF32 1.0, CS16 32767, CS8 127) at 0 dB is the emulator's
+/// unit transmit power; the gain only attenuates.
+inline constexpr GainControl kTxGain{-60.0, 0.0, 0.0, 0.0};
+
 /// What the application set for one direction: where it is tuned relative to
 /// the emulator's carrier, and its gain.
 struct PathTuning {
   bool in_band = true;     ///< false: tuned outside [carrier - fs/2, carrier + fs/2): silence
   double offset_hz = 0.0;  ///< tuned frequency - carrier, |offset| < fs/2 when in_band
-  double gain_db = 0.0;    ///< amplitude scale 10^(gain/20)
+  double gain_db = 0.0;    ///< amplitude scale 10^(gain/20): GainControl::scale_db()
 };
 
 /// The amplitude factor of `t`: 10^(gain/20), or 0 when tuned out of band.

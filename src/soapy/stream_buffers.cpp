@@ -48,6 +48,14 @@ SampleTime StreamBuffers::now() const {
   return now_;
 }
 
+bool StreamBuffers::now_after_first_tick(SampleTime& t, long timeout_us) {
+  std::unique_lock lock(mutex_);
+  changed_.wait_for(lock, micros(timeout_us), [&] { return ticked_ || closed_; });
+  if (!ticked_) return false;
+  t = now_;
+  return true;
+}
+
 bool StreamBuffers::connected() const {
   std::lock_guard lock(mutex_);
   return !closed_;
@@ -127,6 +135,7 @@ void StreamBuffers::on_tick(SampleTime t, std::span<const cf32> rx, std::span<cf
     take_rx(t, rx);
     build_tx(t, tx);
     now_ = t;
+    ticked_ = true;
   }
   changed_.notify_all();
 }
@@ -148,6 +157,7 @@ void StreamBuffers::reopen(SampleTime t) {
     tx_.clear();
     tx_queued_ = 0;
     tx_floor_ = tx_next_ = now_ = t;
+    ticked_ = true;  // t is the new emulator's first tick
     in_burst_ = false;
     closed_ = false;
     error_reported_ = false;

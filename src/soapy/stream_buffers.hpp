@@ -74,8 +74,13 @@ class StreamBuffers {
   /// RX stream's state, TX events and the counters stay.
   void reopen(SampleTime t);
 
-  /// The start of the latest tick (virtual samples).
+  /// The start of the latest tick (virtual samples); 0 before the first.
   SampleTime now() const;
+  /// now(), but before the first tick it waits up to `timeout_us` for it, so
+  /// that a time read right after the connection is the emulator's and not
+  /// 0. False (and `t` unchanged) when none came in time, or the connection
+  /// closed first.
+  bool now_after_first_tick(SampleTime& t, long timeout_us);
   /// False once close() was called.
   bool connected() const;
 
@@ -112,6 +117,7 @@ class StreamBuffers {
   bool in_burst_ = false;    // the application's burst continues (no END_BURST yet)
   std::deque<TxEvent> events_;
   SampleTime now_ = 0;
+  bool ticked_ = false;  // a tick came: now_ is the emulator's time
   bool closed_ = false;
   bool error_reported_ = false;  // read() returned SOAPY_SDR_STREAM_ERROR once
 

@@ -151,9 +151,14 @@ b = SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="2"))
 # A second make in this process shares the device (as GNU Radio's Soapy source
 # and sink do); another process is refused.
 shared = SoapySDR.Device(dict(driver="rfsitl", socket=sock, node="1"))
-shared.setGain(SOAPY_SDR_RX, 0, -3.0)
-say(step="shared", gain=a.getGain(SOAPY_SDR_RX, 0))
-shared.setGain(SOAPY_SDR_RX, 0, 0.0)
+default = a.getGain(SOAPY_SDR_RX, 0)
+shared.setGain(SOAPY_SDR_RX, 0, default - 3.0)
+gain = a.getGain(SOAPY_SDR_RX, 0)
+# Out of range is clamped (as UHD does), not refused.
+shared.setGain(SOAPY_SDR_RX, 0, 1000.0)
+say(step="shared", default=default, gain=gain, clamped=a.getGain(SOAPY_SDR_RX, 0),
+    maximum=a.getGainRange(SOAPY_SDR_RX, 0).maximum())
+shared.setGain(SOAPY_SDR_RX, 0, default)
 shared = None
 claim = subprocess.run([sys.executable, "-c", "import SoapySDR, sys; SoapySDR.Device("
                         "dict(driver='rfsitl', socket=sys.argv[1], node='1'))", sock],
@@ -267,7 +272,7 @@ class SoapyModuleTest(unittest.TestCase):
         self.assertIn(f"serial = {sock}#1", soapy_util("--find=driver=rfsitl"))
         out = soapy_util(f"--probe=driver=rfsitl,socket={sock},node=1")
         for text in ("Channels: 1 Rx, 1 Tx", "CF32", "CS16", "CS8", "Native format: CF32",
-                     "Sample rates: 1 MSps", "Full gain range: [-40, 40] dB",
+                     "Sample rates: 1 MSps", "Full gain range: [0, 96] dB",
                      "Full gain range: [-60, 0] dB", "driver=rfsitl"):
             self.assertIn(text, out)
         # The probe's claim ended with it: both nodes are free again, once the
@@ -286,7 +291,9 @@ class SoapyModuleTest(unittest.TestCase):
         until = self.program(NODE_PROGRAM, sock, context=lambda: "".join(emu.output[-30:]))
         lines = until.lines
 
-        self.assertEqual(until("shared")["gain"], -3.0)
+        shared = until("shared")
+        self.assertEqual(shared["gain"], shared["default"] - 3.0)
+        self.assertEqual(shared["clamped"], shared["maximum"])
         self.assertIn("already claimed by another program; pass takeover=1",
                       until("second_claim")["error"] or "")
         self.assertIn("setSampleRate(2000000.000000) is not supported",

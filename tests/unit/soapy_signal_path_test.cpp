@@ -1,12 +1,16 @@
 // The SoapySDR module's sample handling without an emulator: format
-// conversions (sample_formats.hpp) and the frequency offset and gain applied
-// to each direction (signal_path.hpp).
+// conversions (sample_formats.hpp), the frequency offset and gain applied to
+// each direction, and the gain's mapping onto the formats' one full scale
+// (signal_path.hpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <limits>
 #include <numbers>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include "sample_formats.hpp"
@@ -119,6 +123,78 @@ TEST(SoapySignalPath, TxShiftThenRxShiftOfTheSameOffsetRestoresTheSamples) {
   shift_and_scale(s, 5000, 0.2, 1.0);
   shift_and_scale(s, 5000, -0.2, 1.0);
   for (std::size_t i = 0; i < s.size(); ++i) EXPECT_NEAR(std::abs(s[i] - in[i]), 0.0F, 1e-5F);
+}
+
+TEST(SoapyGain, OutOfRangeSettingsAreClampedIntoTheRange) {
+  for (const GainControl& g : {kRxGain, kTxGain}) {
+    EXPECT_EQ(g.clamp(g.min_db - 100.0), g.min_db);
+    EXPECT_EQ(g.clamp(g.max_db + 100.0), g.max_db);
+    const double inside = 0.5 * (g.min_db + g.max_db);
+    EXPECT_EQ(g.clamp(inside), inside);
+    EXPECT_TRUE(std::isnan(g.clamp(std::nan(""))));
+    EXPECT_EQ(g.clamp(g.default_db), g.default_db) << "the default lies in the range";
+  }
+}
+
+TEST(SoapyGain, UnitySettingPassesTheEmulatorsUnitsUnchanged) {
+  for (const GainControl& g : {kRxGain, kTxGain}) {
+    ASSERT_EQ(g.clamp(g.unity_db), g.unity_db) << "reachable";
+    EXPECT_EQ(amplitude_of({true, 0.0, g.scale_db(g.unity_db)}), 1.0);
+    // Each dB of setting is a dB of level.
+    EXPECT_NEAR(amplitude_of({true, 0.0, g.scale_db(g.unity_db - 20.0)}), 0.1, 1e-12);
+  }
+}
+
+/// `n` samples of complex Gaussian noise of unit power (the emulator's
+/// receiver noise in its native units), seeded.
+std::vector<cf32> unit_noise(std::size_t n) {
+  std::mt19937 rng(7);
+  std::normal_distribution<float> half(0.0F, std::sqrt(0.5F));
+  std::vector<cf32> v(n);
+  for (auto& x : v) x = {half(rng), half(rng)};
+  return v;
+}
+
+/// The RMS of the integers of `w` (I and Q alike), and the fraction at either end.
+template <typename T>
+std::pair<double, double> rms_and_clipped(const std::vector<T>& w) {
+  double sum = 0.0;
+  std::size_t clipped = 0;
+  for (const T v : w) {
+    sum += static_cast<double>(v) * static_cast<double>(v);
+    clipped += v == std::numeric_limits<T>::max() || v == std::numeric_limits<T>::min() ? 1U : 0U;
+  }
+  return {std::sqrt(sum / static_cast<double>(w.size())),
+          static_cast<double>(clipped) / static_cast<double>(w.size())};
+}
+
+TEST(SoapyGain, DefaultRxGainPutsTheNoiseInTheLowBitsOfCs16WithoutClipping) {
+  auto s = unit_noise(100'000);
+  shift_and_scale(s, 0, 0.0, amplitude_of({true, 0.0, kRxGain.scale_db(kRxGain.default_db)}));
+  std::vector<std::int16_t> wire(2 * s.size());
+  convert_out(s, SampleFormat::kCS16, wire.data());
+  const auto [rms, clipped] = rms_and_clipped(wire);
+  // A real SDR's noise floor: a few bits above the last, far below full scale.
+  EXPECT_GE(rms, 8.0);
+  EXPECT_LE(rms, 64.0);
+  EXPECT_EQ(clipped, 0.0);
+}
+
+TEST(SoapyGain, EveryFormatSharesOneFullScale) {
+  // What a gain makes of a sample is one value, whatever the format carries:
+  // CF32 v == CS16 v * 32767 == CS8 v * 127, within rounding.
+  auto s = ramp(255, 1.0F);
+  shift_and_scale(s, 0, 0.0, amplitude_of({true, 0.0, kRxGain.scale_db(kRxGain.unity_db - 3.0)}));
+  std::vector<cf32> f32(s.size());
+  std::vector<std::int16_t> s16(2 * s.size());
+  std::vector<std::int8_t> s8(2 * s.size());
+  convert_out(s, SampleFormat::kCF32, f32.data());
+  convert_out(s, SampleFormat::kCS16, s16.data());
+  convert_out(s, SampleFormat::kCS8, s8.data());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    EXPECT_NEAR(s16[2 * i] / 32767.0, f32[i].real(), 0.5 / 32767.0 + 1e-6) << i;
+    EXPECT_NEAR(s8[2 * i + 1] / 127.0, f32[i].imag(), 0.5 / 127.0 + 1e-6) << i;
+  }
 }
 
 }  // namespace

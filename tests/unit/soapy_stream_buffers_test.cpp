@@ -97,6 +97,47 @@ TEST(SoapyStreamBuffers, ReadTimesOutInTimeAndFailsOnceClosed) {
   EXPECT_EQ(b.read_event(e, 0), SOAPY_SDR_STREAM_ERROR);
 }
 
+TEST(SoapyStreamBuffers, TimeWaitsForTheFirstTickInsteadOfReadingZero) {
+  StreamBuffers b(kFs, 10 * kTick, 10 * kTick);
+  FakeEmulator emu(b);
+  emu.t = 30'280'000;  // an emulator that has run for a while before the device joined
+  SampleTime t = -1;
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(b.now_after_first_tick(t, 20'000)) << "no tick yet: no time";
+  EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(19));
+  EXPECT_EQ(t, -1);
+  // A reader waiting without end gets the first tick's time, not 0.
+  const SampleTime first = emu.t;
+  std::thread ticker([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    emu.tick();
+  });
+  const bool got = b.now_after_first_tick(t, 60'000'000);
+  ticker.join();
+  ASSERT_TRUE(got);
+  EXPECT_EQ(t, first);
+  emu.tick();
+  ASSERT_TRUE(b.now_after_first_tick(t, 0)) << "after the first tick: at once";
+  EXPECT_EQ(t, emu.t - static_cast<SampleTime>(kTick));
+  EXPECT_EQ(t, b.now());
+}
+
+TEST(SoapyStreamBuffers, TimeWaitEndsWhenTheEmulatorGoesBeforeItsFirstTick) {
+  StreamBuffers b(kFs, 10 * kTick, 10 * kTick);
+  std::thread closer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    b.close();
+  });
+  SampleTime t = -1;
+  const bool got = b.now_after_first_tick(t, 60'000'000);
+  closer.join();
+  EXPECT_FALSE(got);
+  EXPECT_EQ(t, -1);
+  b.reopen(4000);  // a new emulator's first tick: its time is known
+  ASSERT_TRUE(b.now_after_first_tick(t, 0));
+  EXPECT_EQ(t, 4000);
+}
+
 TEST(SoapyStreamBuffers, ReopenedAfterARestartTheBuffersFollowTheNewVirtualTime) {
   StreamBuffers b(kFs, 3 * kTick, 10 * kTick);
   FakeEmulator old_emu(b);
