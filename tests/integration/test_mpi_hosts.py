@@ -96,6 +96,14 @@ class Hosts:
                 time.sleep(0.05)
             subprocess.run(["ip", "netns", "del", name], capture_output=True)
         subprocess.run(["ip", "link", "del", self.bridge], capture_output=True)
+        # The kernel tears a deleted namespace's veth pair down after `ip netns
+        # del` returns; a make() right after (the next test, same names) would
+        # meet "File exists". Wait until the host ends are gone.
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and any(
+                subprocess.run(["ip", "link", "show", veth], capture_output=True).returncode == 0
+                for veth in self.veths):
+            time.sleep(0.05)
 
     def mpirun(self, d, ranks_per_host=1):
         """mpirun's command line for one rank per host (the hostfile in d)."""
