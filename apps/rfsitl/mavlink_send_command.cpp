@@ -35,6 +35,7 @@
 
 #include "commands.hpp"
 #include "rfsitl/common/geodesy.hpp"
+#include "rfsitl/common/unique_fd.hpp"
 #include "rfsitl/position/mavlink/encoder.hpp"
 #include "rfsitl/position/mavlink_source/mavlink_endpoint.hpp"
 
@@ -55,23 +56,9 @@ struct SendOptions {
   double duration_s = 0.0;  // 0: until Ctrl-C
 };
 
-/// A file descriptor closed with its owner.
-struct Fd {
-  int fd = -1;
-  explicit Fd(int f = -1) : fd(f) {}
-  Fd(Fd&& o) noexcept : fd(std::exchange(o.fd, -1)) {}
-  Fd& operator=(Fd&& o) noexcept {
-    std::swap(fd, o.fd);
-    return *this;
-  }
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
 /// One socket of `type` bound (listen) or connected (send) to the endpoint's
 /// address. Throws std::runtime_error naming the address and the reason.
-Fd open_socket(const position::MavlinkEndpoint& e, bool listen) {
+UniqueFd open_socket(const position::MavlinkEndpoint& e, bool listen) {
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
   hints.ai_socktype = listen ? SOCK_STREAM : SOCK_DGRAM;
@@ -82,15 +69,15 @@ Fd open_socket(const position::MavlinkEndpoint& e, bool listen) {
     throw std::runtime_error(where + ": " + ::gai_strerror(rc));
   }
   const std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> list(found, &::freeaddrinfo);
-  Fd fd(::socket(found->ai_family, found->ai_socktype | SOCK_CLOEXEC, 0));
-  if (fd.fd < 0) throw std::runtime_error(where + ": socket: " + std::strerror(errno));
+  UniqueFd fd(::socket(found->ai_family, found->ai_socktype | SOCK_CLOEXEC, 0));
+  if (fd.get() < 0) throw std::runtime_error(where + ": socket: " + std::strerror(errno));
   if (listen) {
     const int on = 1;
-    ::setsockopt(fd.fd, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
-    if (::bind(fd.fd, found->ai_addr, found->ai_addrlen) != 0 || ::listen(fd.fd, 1) != 0) {
+    ::setsockopt(fd.get(), SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
+    if (::bind(fd.get(), found->ai_addr, found->ai_addrlen) != 0 || ::listen(fd.get(), 1) != 0) {
       throw std::runtime_error(where + ": cannot listen: " + std::strerror(errno));
     }
-  } else if (::connect(fd.fd, found->ai_addr, found->ai_addrlen) != 0) {
+  } else if (::connect(fd.get(), found->ai_addr, found->ai_addrlen) != 0) {
     throw std::runtime_error(where + ": " + std::strerror(errno));
   }
   return fd;
@@ -101,16 +88,16 @@ struct Vehicle {
   std::uint8_t sysid;
   mav::MavlinkEncoder enc;
   LocalPosition start;  // east, north, up from the first vehicle's start
-  Fd socket;            // UDP: connected; TCP: the listener
-  Fd peer;              // TCP: the emulator's connection, when one is up
+  UniqueFd socket;      // UDP: connected; TCP: the listener
+  UniqueFd peer;        // TCP: the emulator's connection, when one is up
   bool tcp;
 
   /// Sends `frame` where it goes; a TCP peer that went away is dropped.
   void send(const std::vector<std::uint8_t>& frame) {
-    const int fd = tcp ? peer.fd : socket.fd;
+    const int fd = tcp ? peer.get() : socket.get();
     if (fd < 0) return;
     // UDP before the emulator listens: ECONNREFUSED, harmless; try again next time.
-    if (::send(fd, frame.data(), frame.size(), MSG_NOSIGNAL) < 0 && tcp) peer = Fd();
+    if (::send(fd, frame.data(), frame.size(), MSG_NOSIGNAL) < 0 && tcp) peer.reset();
   }
 };
 
@@ -135,9 +122,10 @@ int run_sender(const SendOptions& o) {
     for (unsigned n = 1; n <= o.vehicles; ++n) {
       const auto mine = endpoint->for_node(static_cast<NodeId>(n));
       if (!mine) throw std::runtime_error("vehicle " + std::to_string(n) + ": port beyond 65535");
-      vehicles.push_back(
-          {static_cast<std::uint8_t>(n), mav::MavlinkEncoder(static_cast<std::uint8_t>(n), 1),
-           LocalPosition{o.spacing_m * (n - 1), 0.0, 0.0}, open_socket(*mine, tcp), Fd(), tcp});
+      vehicles.push_back({static_cast<std::uint8_t>(n),
+                          mav::MavlinkEncoder(static_cast<std::uint8_t>(n), 1),
+                          LocalPosition{o.spacing_m * (n - 1), 0.0, 0.0}, open_socket(*mine, tcp),
+                          UniqueFd(), tcp});
       std::printf("rfsitl mavlink-send: vehicle %u (system %u) %s %s\n", n, n,
                   tcp ? "serving" : "sending to", mine->text().c_str());
     }
@@ -167,8 +155,7 @@ int run_sender(const SendOptions& o) {
       if (now >= t) break;
       std::vector<pollfd> fds;
       for (const Vehicle& v : vehicles) {
-        fds.push_back(
-            {v.tcp && v.peer.fd < 0 ? v.socket.fd : (v.tcp ? v.peer.fd : v.socket.fd), POLLIN, 0});
+        fds.push_back({v.peer.valid() ? v.peer.get() : v.socket.get(), POLLIN, 0});
       }
       const timespec no_wait{0, 0};
       if (const int sig = sigtimedwait(&signals, nullptr, &no_wait);
@@ -182,15 +169,15 @@ int run_sender(const SendOptions& o) {
       for (std::size_t i = 0; i < vehicles.size(); ++i) {
         if ((fds[i].revents & (POLLIN | POLLHUP | POLLERR)) == 0) continue;
         Vehicle& v = vehicles[i];
-        if (v.tcp && v.peer.fd < 0) {
-          v.peer = Fd(::accept4(v.socket.fd, nullptr, nullptr, SOCK_CLOEXEC));
-          if (v.peer.fd >= 0) std::printf("rfsitl mavlink-send: vehicle %u connected\n", v.sysid);
+        if (v.tcp && !v.peer.valid()) {
+          v.peer.reset(::accept4(v.socket.get(), nullptr, nullptr, SOCK_CLOEXEC));
+          if (v.peer.valid()) std::printf("rfsitl mavlink-send: vehicle %u connected\n", v.sysid);
           std::fflush(stdout);
           continue;
         }
         std::uint8_t ignored[2048];
         const ssize_t n = ::recv(fds[i].fd, ignored, sizeof ignored, MSG_DONTWAIT);
-        if (n == 0 && v.tcp) v.peer = Fd();  // the emulator closed: serve the next one
+        if (n == 0 && v.tcp) v.peer.reset();  // the emulator closed: serve the next one
       }
     }
     const bool heartbeat = t >= next_heartbeat_s;

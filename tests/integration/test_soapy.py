@@ -36,6 +36,16 @@ def soapy_missing():
     return None
 
 
+def require_module():
+    """Skips the calling test class where SoapySDR is missing; fails it where
+    SoapySDR is there but the module was not built."""
+    why = soapy_missing()
+    if why:
+        raise unittest.SkipTest(why)
+    if not os.path.exists(os.path.join(MODULE_DIR, "libSoapyRfsitl.so")):
+        raise AssertionError("SoapySDR is installed but the module was not built in " + MODULE_DIR)
+
+
 def soapy_env(module_dir=MODULE_DIR):
     """The environment for programs that load the module (from module_dir). A
     sanitized build's module needs the ASan runtime loaded first, which
@@ -247,12 +257,7 @@ say(step="closed")
 class SoapyModuleTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        why = soapy_missing()
-        if why:
-            raise unittest.SkipTest(why)
-        if not os.path.exists(os.path.join(MODULE_DIR, "libSoapyRfsitl.so")):
-            raise AssertionError("SoapySDR is installed but the module was not built in "
-                                 + MODULE_DIR)
+        require_module()
 
     def start(self, wait_for_nodes=True, socket=None, tick_samples=None):
         return start_emulator(self, wait_for_nodes, socket, tick_samples)

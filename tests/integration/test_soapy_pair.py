@@ -15,7 +15,7 @@ import shutil
 import unittest
 
 from harness import LOAD_TOLERANT, SOURCE_DIR, Emulator
-from test_soapy import MODULE_DIR, run_program, soapy_missing, soapy_util
+from test_soapy import require_module, run_program, soapy_util
 
 SCENARIO = os.path.join(SOURCE_DIR, "scenarios", "soapy_pair.yaml")
 README = os.path.join(SOURCE_DIR, "README.md")
@@ -75,12 +75,7 @@ def readme_snippet():
 class SoapyPairScenarioTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        why = soapy_missing()
-        if why:
-            raise unittest.SkipTest(why)
-        if not os.path.exists(os.path.join(MODULE_DIR, "libSoapyRfsitl.so")):
-            raise AssertionError("SoapySDR is installed but the module was not built in "
-                                 + MODULE_DIR)
+        require_module()
 
     def start(self):
         """The shipped scenario on free ports (the harness's node ids pick
