@@ -10,7 +10,7 @@
 # Nothing else names a component: adding one is its folder.
 
 # The kinds: the C++ namespace, component type and header of each.
-set(RFSITL_COMPONENT_KINDS phy mac channel_stage position_source mobility)
+set(RFSITL_COMPONENT_KINDS phy mac channel_stage sample_stage position_source mobility)
 set(RFSITL_KIND_phy_NAMESPACE rfsitl::phy)
 set(RFSITL_KIND_phy_TYPE PhyComponent)
 set(RFSITL_KIND_phy_HEADER rfsitl/phy/phy_component.hpp)
@@ -20,6 +20,9 @@ set(RFSITL_KIND_mac_HEADER rfsitl/mac/mac.hpp)
 set(RFSITL_KIND_channel_stage_NAMESPACE rfsitl::channel)
 set(RFSITL_KIND_channel_stage_TYPE ChannelStageComponent)
 set(RFSITL_KIND_channel_stage_HEADER rfsitl/channel/channel_stage.hpp)
+set(RFSITL_KIND_sample_stage_NAMESPACE rfsitl::channel)
+set(RFSITL_KIND_sample_stage_TYPE SampleStageComponent)
+set(RFSITL_KIND_sample_stage_HEADER rfsitl/channel/sample_stage.hpp)
 set(RFSITL_KIND_position_source_NAMESPACE rfsitl::position)
 set(RFSITL_KIND_position_source_TYPE PositionSourceComponent)
 set(RFSITL_KIND_position_source_HEADER rfsitl/position/source/position_source.hpp)

@@ -10,6 +10,7 @@
 #include "rfsitl/common/spsc_ring.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
+#include "rfsitl/scenario/sample_chain_of.hpp"
 
 namespace rfsitl::engine {
 
@@ -20,8 +21,9 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
       block_(s.timing.tick_samples),
       air_(s.nodes.size(), scenario::make_link_budget(s), s.channel.origin,
            channel::ChannelConfig{s.channel.noise_variance, s.channel.shared_noise, s.seed,
-                                  s.timing.sample_rate_hz, s.timing.tick_samples,
-                                  s.channel.tx_impairments, s.channel.rx_impairments}),
+                                  s.timing.sample_rate_hz, s.timing.tick_samples},
+           scenario::make_sample_chain(s, channel::SampleSide::kTransmit),
+           scenario::make_sample_chain(s, channel::SampleSide::kReceive)),
       channel_(air_.matrix()),
       counters_(s.nodes.size()),
       clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,

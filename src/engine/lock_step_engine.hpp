@@ -137,7 +137,8 @@ class LockStepEngine final : public Engine {
   /// finished transmitting, or some other transmitter's signal reaches it: an
   /// active one with c_nm != 0, or through a delayed path the tail of an
   /// earlier transmission). Otherwise its input is pure noise, from which it cannot decode
-  /// anything. skip_idle_receivers = false runs every receiver every tick.
+  /// anything. skip_idle_receivers = false, or a receive stage that makes
+  /// skipping inexact (Channel::skipping_exact), runs every receiver every tick.
   /// Observers do not count: a watched idle receiver's input is computed for
   /// them (RxTick::kWatched) without running it.
   bool receiver_must_run(std::size_t m) const;
