@@ -26,7 +26,7 @@ import unittest
 
 import yaml
 
-from harness import BIN, pick_port_bases, scenario_yaml
+from harness import run_batch, scenario_yaml
 from test_determinism import NODES as DET_NODES, TRAFFIC as DET_TRAFFIC
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -105,19 +105,7 @@ def outcome(summary):
 def run_yaml(text, folder, name):
     """Runs a scenario given as text, written into `folder` (where the
     example's data folders are linked), and returns its outcome."""
-    path = os.path.join(folder, f"{name}.yaml")
-    with open(path, "w") as f:
-        f.write(text)
-    ids = [n["id"] for n in yaml.safe_load(text)["nodes"]]
-    net_base, loc_base = pick_port_bases(ids)
-    summary = os.path.join(folder, f"{name}.json")
-    r = subprocess.run([BIN, "run", path, "--net-base", str(net_base), "--loc-base",
-                        str(loc_base), "--no-dashboard", "--summary-json", summary],
-                       capture_output=True, text=True, timeout=600)
-    if r.returncode != 0:
-        raise AssertionError(f"{name}: exit {r.returncode}\n{r.stdout[-2000:]}\n{r.stderr[-2000:]}")
-    with open(summary) as f:
-        return outcome(json.load(f))
+    return outcome(run_batch(folder, name, text, timeout=600))
 
 
 def all_cases(folder):

@@ -6,8 +6,6 @@ receiver run on pure noise may count an extra false header as
 rx_crc_failures, as without stages). Each stage also really acts: the
 frames differ from the run without it."""
 
-import json
-import os
 import re
 import subprocess
 import tempfile
@@ -15,7 +13,7 @@ import unittest
 
 import yaml
 
-from harness import BIN, assert_accounted, pick_port_bases, scenario_yaml
+from harness import BIN, assert_accounted, run_batch, scenario_yaml
 from test_determinism import COMPARED, NODES, TRAFFIC
 
 # Settings that make a built-in stage do something (a plugin's own stage runs
@@ -38,18 +36,7 @@ def run(folder, name, stage, args=()):
         entry = {"type": stage, **SETTINGS.get(stage, {})}
         doc["channel"]["tx_stages"] = [entry]
         doc["channel"]["rx_stages"] = [entry]
-    path = os.path.join(folder, f"{name}.yaml")
-    with open(path, "w") as f:
-        yaml.safe_dump(doc, f)
-    net_base, loc_base = pick_port_bases(NODES)
-    summary = os.path.join(folder, f"{name}.json")
-    r = subprocess.run([BIN, "run", path, "--net-base", str(net_base), "--loc-base",
-                        str(loc_base), "--no-dashboard", "--summary-json", summary, *args],
-                       capture_output=True, text=True, timeout=240)
-    if r.returncode != 0:
-        raise AssertionError(f"{name}: exit {r.returncode}\n{r.stdout[-2000:]}\n{r.stderr[-2000:]}")
-    with open(summary) as f:
-        return json.load(f)
+    return run_batch(folder, name, yaml.safe_dump(doc), args)
 
 
 def frames(summary, keys):
