@@ -29,10 +29,10 @@ class WorkerTuner {
  public:
   static constexpr std::int64_t kEpochNs = 10'000'000;
   static constexpr std::size_t kClockTicks = 16;
-  static constexpr std::size_t kFirstExploitEpochs = 16;
+  static constexpr std::size_t kFirstExploitEpochs = 32;
   static constexpr std::size_t kMaxExploitEpochs = 1024;
   static constexpr double kMinGain = 0.05;
-  static constexpr double kClearCut = 0.25;
+  static constexpr double kClearCut = 0.15;
 
   /// Monotonic time in nanoseconds (tests give a fake one).
   using Clock = std::function<std::int64_t()>;
