@@ -1,8 +1,9 @@
 /// Virtual-time speed: simulated seconds per wall-clock second of a run in
 /// virtual time (in process: a session assembled as `rfsitl run --mode virtual`
 /// assembles it, without ports), N nodes in the default formation, every node
-/// sending one frame per second to a random other node, at a uniformly random time within each
-/// second (scheduled traffic, no acks; the same load as rfsitl_swarm_load's pings).
+/// sending one frame per second to a random other node, at a uniformly random
+/// time within each second (scheduled traffic, no acks; the same load as
+/// rfsitl_swarm_load's pings).
 ///
 ///   rfsitl_virtual_speed [--nodes 15] [--duration 60] [--csv FILE] [--no-skip]
 ///                        [--fading rayleigh|rician] [--multipath tdl_a|tdl_b|tdl_c|taps4]

@@ -25,7 +25,8 @@ struct CountingSink final : engine::FrameSink {
 };
 
 /// Three nodes of the default formation (every link decodes), node 1 sending
-/// 5 frames to node 2 and node 2 one to node 3, in 0.5 s of virtual time.
+/// 5 frames to node 2 and node 2 one to node 3 between them, in 0.5 s of
+/// virtual time.
 scenario::Scenario trio() {
   scenario::Scenario s;
   s.name = "session-trio";
@@ -34,7 +35,7 @@ scenario::Scenario trio() {
   s.engine.stats_interval_s = 0.0;
   s.nodes = scenario::default_formation(3, s.channel);
   s.traffic.push_back({0.05, 1, 2, 40, 5, 0.05});
-  s.traffic.push_back({0.2, 2, 3, 40, 1, 0.0});
+  s.traffic.push_back({0.225, 2, 3, 40, 1, 0.0});
   return s;
 }
 
