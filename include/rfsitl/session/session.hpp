@@ -17,9 +17,12 @@
 /// In a distributed run (under mpirun) every step from "ports" on is
 /// collective: every rank calls it, and every rank gets the same verdict.
 ///
-/// Threads: one thread calls the steps and the accessors; request_stop() and
-/// the engine's thread-safe views (engine().status(), counters()) may be used
-/// from any thread while serve() runs.
+/// Threads: one thread calls the steps and the accessors. While serve() runs,
+/// other threads may call request_stop() and the engine's thread-safe views
+/// (status(), counters()) through a reference taken from engine() before.
+///
+/// Not yet: advancing a run by parts (run to 1 s, read, run on to 2 s); the
+/// engine's run() goes once to its end. serve() runs the whole duration.
 #include <atomic>
 #include <condition_variable>
 #include <functional>
