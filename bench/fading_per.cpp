@@ -120,6 +120,7 @@
 #include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
+#include "rfsitl/session/session.hpp"
 
 namespace {
 
@@ -135,10 +136,6 @@ constexpr double kAfterS = 0.005;   // frame end (plus a tick) to departure
 constexpr double kMoveS = 0.010;    // the leg between two points
 constexpr double kSquareM = 40.0;
 constexpr double kHeightM = 10.0;
-
-struct NullSink : engine::FrameSink {
-  void deliver(std::size_t, NetFrame&&) override {}
-};
 
 struct PhyCase {
   std::string name;
@@ -276,11 +273,13 @@ Outcome run_job(const PhyCase& pc, const Job& job, const std::vector<LocalPositi
   s.traffic = {{first_s, 1, 2, kPayload, job.frames, slot_s}};
   s.timing.duration_s = first_s + slot_s * job.frames + 0.05;
   scenario::validate_scenario(s);
-  NullSink sink;
-  auto e = engine::make_engine(s, sink);
-  std::atomic<bool> stop{false};
-  e->run(stop);
-  const auto c = e->counters(0).snapshot();
+  session::SessionOptions options;
+  options.scenario = std::move(s);
+  options.ports = false;
+  session::Session run(std::move(options));
+  run.assemble();
+  run.serve();
+  const engine::NodeCountersSnapshot c = run.finish().counters[0];
   return {c.delivered, c.pending(),
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
 }

@@ -48,14 +48,11 @@
 #include "rfsitl/registry/mac_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/scenario.hpp"
+#include "rfsitl/session/session.hpp"
 
 namespace {
 
 using namespace rfsitl;
-
-struct NullSink : engine::FrameSink {
-  void deliver(std::size_t, NetFrame&&) override {}
-};
 
 double g_fs = 1e6;                    // the runs use 1 Msps; --bounds may set another rate
 constexpr std::uint32_t kTick = 250;  // the scenario default
@@ -111,16 +108,19 @@ scenario::Scenario saturated(const std::string& mac, std::size_t senders, double
 }
 
 Result run(const scenario::Scenario& s, std::size_t payload) {
-  NullSink sink;
-  auto e = engine::make_engine(s, sink);
-  std::atomic<bool> stop{false};
-  e->run(stop);
+  session::SessionOptions options;
+  options.scenario = s;
+  options.ports = false;
+  session::Session session(std::move(options));
+  session.assemble();
+  session.serve();
+  const std::vector<engine::NodeCountersSnapshot> counters = session.finish().counters;
   Result r;
   std::uint64_t delivered = 0;
   std::uint64_t collided = 0;
   double service_sum = 0.0;
-  for (std::size_t i = 1; i < e->num_nodes(); ++i) {
-    const auto c = e->counters(i).snapshot();
+  for (std::size_t i = 1; i < counters.size(); ++i) {
+    const auto& c = counters[i];
     delivered += c.delivered;
     r.transmissions += c.transmitted;
     collided += s.mac.type == "csma"
@@ -133,7 +133,7 @@ Result run(const scenario::Scenario& s, std::size_t payload) {
   r.collided = r.transmissions > 0
                    ? static_cast<double>(collided) / static_cast<double>(r.transmissions)
                    : 0.0;
-  r.service_ms = service_sum / static_cast<double>(e->num_nodes() - 1);
+  r.service_ms = service_sum / static_cast<double>(counters.size() - 1);
   return r;
 }
 

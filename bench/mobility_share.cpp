@@ -26,7 +26,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -40,6 +39,7 @@
 #include "rfsitl/position/mobility/mobility_component.hpp"
 #include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
+#include "rfsitl/session/session.hpp"
 
 namespace {
 
@@ -76,10 +76,6 @@ struct RunFigures {
   engine::NodeCountersSnapshot frames;  ///< summed over the nodes
 
   double share_pct() const { return wall_s > 0.0 ? 100.0 * mobility_wall_s / wall_s : NAN; }
-};
-
-struct NullSink : engine::FrameSink {
-  void deliver(std::size_t, NetFrame&&) override {}
 };
 
 scenario::MobilityChoice random_waypoint(const Options& o) {
@@ -148,14 +144,16 @@ scenario::Scenario build(const Options& o, double update_s, unsigned seconds) {
 }
 
 RunFigures run_once(const scenario::Scenario& s) {
-  NullSink sink;
-  const auto e = engine::make_engine(s, sink);
-  const std::atomic<bool> stop{false};
-  e->run(stop);
-  const engine::EngineStatus st = e->status();
+  session::SessionOptions options;
+  options.scenario = s;
+  options.ports = false;
+  session::Session session(std::move(options));
+  session.assemble();
+  session.serve();
+  const session::SessionSummary& summary = session.finish();
+  const engine::EngineStatus& st = summary.status;
   RunFigures r{st.virtual_s, st.wall_s, st.mobility_wall_s, {}};
-  for (std::size_t i = 0; i < e->num_nodes(); ++i) {
-    const engine::NodeCountersSnapshot c = e->counters(i).snapshot();
+  for (const engine::NodeCountersSnapshot& c : summary.counters) {
     r.frames.handed_in += c.handed_in;
     r.frames.queue_dropped += c.queue_dropped;
     r.frames.delivered += c.delivered;

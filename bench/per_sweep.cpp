@@ -8,7 +8,6 @@
 /// sample bandwidth fs. (An OFDM signal fills 52 of 64 subcarriers, so its SNR
 /// per occupied subcarrier is 0.9 dB higher; GMSK at k = 2 has Eb/N0 = SNR + 3 dB.)
 #include <CLI/CLI.hpp>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -18,14 +17,11 @@
 
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
+#include "rfsitl/session/session.hpp"
 
 namespace {
 
 using namespace rfsitl;
-
-struct NullSink : engine::FrameSink {
-  void deliver(std::size_t, NetFrame&&) override {}
-};
 
 struct Point {
   std::string phy;
@@ -50,11 +46,13 @@ Point measure(const scenario::PhyChoice& phy, const std::string& label, double s
   const double interval = 1.5 * frame_s + 0.001;
   s.traffic = {{0.001, 1, 2, payload, frames, interval}};
   s.timing.duration_s = 0.001 + interval * frames + 0.01;
-  NullSink sink;
-  auto e = engine::make_engine(s, sink);
-  std::atomic<bool> stop{false};
-  e->run(stop);
-  return {label, snr_db, frames, e->counters(0).snapshot().delivered};
+  session::SessionOptions options;
+  options.scenario = s;
+  options.ports = false;
+  session::Session run(std::move(options));
+  run.assemble();
+  run.serve();
+  return {label, snr_db, frames, run.finish().counters[0].delivered};
 }
 
 }  // namespace

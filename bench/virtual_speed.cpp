@@ -1,8 +1,9 @@
-/// Virtual-time speed: simulated seconds per wall-clock second of an Engine in
-/// virtual time (in process, as `rfsitl run --mode virtual` runs it), N nodes in
-/// the default formation, every node sending one frame per second to a random
-/// other node, at a uniformly random time within each second (scheduled
-/// traffic, no acks; the same load as rfsitl_swarm_load's pings).
+/// Virtual-time speed: simulated seconds per wall-clock second of a run in
+/// virtual time (in process: a session assembled as `rfsitl run --mode virtual`
+/// assembles it, without ports), N nodes in the default formation, every node
+/// sending one frame per second to a random other node, at a uniformly random
+/// time within each second (scheduled traffic, no acks; the same load as
+/// rfsitl_swarm_load's pings).
 ///
 ///   rfsitl_virtual_speed [--nodes 15] [--duration 60] [--csv FILE] [--no-skip]
 ///                        [--fading rayleigh|rician] [--multipath tdl_a|tdl_b|tdl_c|taps4]
@@ -10,10 +11,10 @@
 /// --fading adds that fading stage (its defaults: M = 32, a 10 kHz grid) after
 /// the paper's path loss, so the two speeds compare a flat and a faded channel.
 #include <CLI/CLI.hpp>
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -22,14 +23,11 @@
 #include "rfsitl/registry/channel_stage_registry.hpp"
 #include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
+#include "rfsitl/session/session.hpp"
 
 namespace {
 
 using namespace rfsitl;
-
-struct NullSink : engine::FrameSink {
-  void deliver(std::size_t, NetFrame&&) override {}
-};
 
 struct Options {
   std::size_t nodes = 15;
@@ -131,25 +129,31 @@ int main(int argc, char** argv) {
   app.add_option("--csv", o.csv, "Append one result row to this CSV (header if new)");
   CLI11_PARSE(app, argc, argv);
 
-  scenario::Scenario s;
-  std::unique_ptr<engine::Engine> e;
-  NullSink sink;
+  // Assembled as `rfsitl run --mode virtual` assembles a run (the session),
+  // without ports: decoded frames are dropped, and counted.
+  session::SessionOptions options;
+  options.ports = false;
+  std::unique_ptr<session::Session> run;
   try {
-    s = build(o);
-    e = engine::make_engine(s, sink);
+    options.scenario = build(o);
+    run = std::make_unique<session::Session>(std::move(options));
+    run->assemble();
   } catch (const std::exception& ex) {
     std::fprintf(stderr, "virtual_speed: %s\n", ex.what());
     return 2;
   }
-  std::atomic<bool> stop{false};
   const auto t0 = std::chrono::steady_clock::now();
-  e->run(stop);
+  const session::ServeResult served = run->serve();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const engine::EngineStatus st = e->status();
+  if (served.end != session::ServeEnd::kCompleted) {
+    std::fprintf(stderr, "virtual_speed: the run failed: %s\n", served.error.c_str());
+    return 1;
+  }
+  const session::SessionSummary& summary = run->finish();
+  const engine::EngineStatus& st = summary.status;
 
   engine::NodeCountersSnapshot total;
-  for (std::size_t i = 0; i < e->num_nodes(); ++i) {
-    const auto c = e->counters(i).snapshot();
+  for (const auto& c : summary.counters) {
     total.handed_in += c.handed_in;
     total.delivered += c.delivered;
     total.queue_dropped += c.queue_dropped;

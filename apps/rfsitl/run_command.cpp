@@ -1,5 +1,6 @@
-/// `rfsitl run`: load a scenario, open the ports, run the engine until a signal
-/// or the scenario's duration, then print the per-node summary.
+/// `rfsitl run`: the command line around a session (rfsitl/session/session.hpp):
+/// its flags into the session's options, its steps, the signals, and what is
+/// printed (run_report.hpp).
 #include <pthread.h>
 #include <signal.h>
 
@@ -20,26 +21,18 @@
 #include <thread>
 #include <vector>
 
-#include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "distributed_run.hpp"
-#include "live_sources.hpp"
-#include "rfsitl/agent_port/ip_ports.hpp"
 #include "rfsitl/agent_port/net_ports.hpp"
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/external/external_runtime.hpp"
-#include "rfsitl/io/bind_address.hpp"
 #include "rfsitl/monitor/control_token.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
 #include "rfsitl/monitor/json_text.hpp"
-#include "rfsitl/monitor/live_view.hpp"
-#include "rfsitl/monitor/pcap_trace.hpp"
-#include "rfsitl/monitor/sigmf_recorder.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
-#include "rfsitl/scenario/default_formation.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
+#include "rfsitl/session/session.hpp"
 #include "run_report.hpp"
 
 namespace rfsitl::app {
@@ -134,78 +127,65 @@ struct RunOptions {
       source_flags;
 };
 
-// A file refuses tick_samples beside tick_us; so does the command line.
-void refuse_both_ticks(const RunOptions& o) {
-  const auto given = [&o](std::string_view flag) {
-    for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
-      if (kSettingFlags[i].flag == flag) return o.settings[i].has_value();
-    }
-    return false;
-  };
-  if (given("--tick") && given("--tick-us")) {
-    throw scenario::ScenarioError("--tick-us: give the tick as --tick or as --tick-us, not both");
+/// The dashboard's control token the user gave (flag or file), checked; ""
+/// when none was given (the session draws one where it is needed). Throws
+/// std::runtime_error naming the flag when it is unusable.
+std::string dashboard_control_token(const RunOptions& o) {
+  std::string token;
+  std::string flag;
+  if (o.dashboard_token) {
+    token = *o.dashboard_token;
+    flag = "--dashboard-token";
+  } else if (o.dashboard_token_file) {
+    flag = "--dashboard-token-file " + *o.dashboard_token_file;
+    std::ifstream in(*o.dashboard_token_file);
+    if (!in) throw std::runtime_error(flag + ": cannot read: " + std::strerror(errno));
+    std::getline(in, token);  // the first line; an editor's newline is not part of it
+    while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
   }
+  if (!flag.empty()) {
+    if (const std::string why = monitor::control_token_problem(token); !why.empty()) {
+      throw std::runtime_error(flag + ": the token " + why);
+    }
+  }
+  return token;
 }
 
-scenario::Scenario build_scenario(const RunOptions& o) {
-  scenario::Scenario s;
-  if (!o.scenario_path.empty()) {
-    if (o.nodes) {
-      throw scenario::ScenarioError(
-          "--nodes builds the default formation and cannot be combined with a scenario file (" +
-          o.scenario_path + " lists its own nodes)");
-    }
-    s = scenario::load_scenario_file(o.scenario_path);
-  } else {
-    // Placed now so that every flag is checked against the nodes it will
-    // apply to; placed again below, once the channel flags are known.
-    s.nodes = scenario::default_formation(o.nodes.value_or(6), s.channel);
-    s.name = "default-formation";
-  }
-  refuse_both_ticks(o);
+/// The session's options from the flags. The settings go in as the scenario
+/// file would write them, each naming its flag, in the table's order and then
+/// the switches'. Reads the dashboard's token file: a token that cannot be
+/// used fails before anything starts. Throws std::runtime_error naming the flag.
+session::SessionOptions session_options(const RunOptions& o) {
+  session::SessionOptions so;
+  so.scenario_path = o.scenario_path;
+  so.nodes = o.nodes;
   for (std::size_t i = 0; i < kNumSettingFlags; ++i) {
     if (const auto& v = o.settings[i]) {
-      scenario::apply_setting(s, kSettingFlags[i].key, *v, std::string(kSettingFlags[i].flag));
+      so.settings.push_back({kSettingFlags[i].key, *v, kSettingFlags[i].flag});
     }
   }
+  if (o.no_skip) so.settings.push_back({"engine.skip_idle_receivers", "false", "--no-skip"});
+  if (o.shared_noise) so.settings.push_back({"channel.shared_noise", "true", "--shared-noise"});
+  if (o.ip) so.settings.push_back({"ip.enabled", "true", "--ip"});
+  if (o.mac) so.settings.push_back({"mac.type", *o.mac, "--mac"});
   for (const auto& [source, value] : o.source_flags) {
-    if (value) follow_source(s, *source, *value);
+    if (value) so.follow.push_back({source, *value});
   }
-  if (o.no_skip) scenario::apply_setting(s, "engine.skip_idle_receivers", "false", "--no-skip");
-  if (o.shared_noise) scenario::apply_setting(s, "channel.shared_noise", "true", "--shared-noise");
-  if (o.ip) scenario::apply_setting(s, "ip.enabled", "true", "--ip");
-  if (o.mac) scenario::apply_setting(s, "mac.type", *o.mac, "--mac");
-  if (o.scenario_path.empty()) s.nodes = scenario::default_formation(s.nodes.size(), s.channel);
   if (o.arch) {
-    // Every built-in transceiver moves: threads = in the emulator, split = one
-    // `rfsitl node` process each. External programs stay what they are.
-    const auto process =
-        *o.arch == "split" ? scenario::Process::kChild : scenario::Process::kInline;
-    s.phy.process = process;
-    for (auto& n : s.nodes) {
-      if (n.phy) n.phy->process = process;
-    }
+    // threads = in the emulator, split = one `rfsitl node` process each.
+    so.transceivers = *o.arch == "split" ? scenario::Process::kChild : scenario::Process::kInline;
   }
-  scenario::validate_scenario(s);
-  return s;
-}
-
-/// What every rank of a distributed run must have been given alike: the
-/// scenario file's bytes and the options.
-std::string run_fingerprint(const RunOptions& o) {
-  std::string text;
-  if (!o.scenario_path.empty()) {
-    std::ifstream in(o.scenario_path, std::ios::binary);
-    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
-  const auto add = [&text](const std::string& v) { text += '\0' + v; };
-  add(std::to_string(o.nodes.value_or(0)));
-  for (const auto& v : o.settings) add(v.value_or("-"));
-  add(o.arch.value_or("-"));
-  add(o.mac.value_or("-"));
-  for (const auto& [source, value] : o.source_flags) add(value.value_or("-"));
-  add(std::to_string(o.ip) + std::to_string(o.no_skip) + std::to_string(o.shared_noise));
-  return text;
+  so.pcap = {o.pcap_path, static_cast<std::uint64_t>(o.pcap_max_mb * 1024 * 1024), o.pcap_files};
+  so.sigmf.directory = o.sigmf_dir;
+  for (const unsigned id : o.sigmf_nodes) so.sigmf.nodes.push_back(static_cast<NodeId>(id));
+  so.sigmf.start_s = o.sigmf_start_s;
+  so.sigmf.duration_s = o.sigmf_duration_s;
+  so.sigmf.max_bytes = static_cast<std::uint64_t>(o.sigmf_max_mb * 1024 * 1024);
+  so.dashboard.enabled = !o.no_dashboard;
+  so.dashboard.port = o.dashboard_port;
+  so.dashboard.control = o.dashboard_control;
+  so.dashboard.control_token = dashboard_control_token(o);
+  return so;
 }
 
 /// Lock-step needs everyone at the start: waits (Ctrl-C aware) until every
@@ -240,200 +220,16 @@ bool wait_for_external_nodes(const external::ExternalRuntime& ext, const scenari
   }
 }
 
-/// The dashboard's control token: the user's (flag or file), or one drawn at
-/// random when control is on and the dashboard is reachable beyond this
-/// machine; "" when none is needed. Sets `drawn` when it was drawn here.
-/// Throws std::runtime_error naming the flag when the user's is unusable.
-std::string dashboard_control_token(const RunOptions& o, const std::string& bind_address,
-                                    bool& drawn) {
-  drawn = false;
-  std::string token;
-  std::string flag;
-  if (o.dashboard_token) {
-    token = *o.dashboard_token;
-    flag = "--dashboard-token";
-  } else if (o.dashboard_token_file) {
-    flag = "--dashboard-token-file " + *o.dashboard_token_file;
-    std::ifstream in(*o.dashboard_token_file);
-    if (!in) throw std::runtime_error(flag + ": cannot read: " + std::strerror(errno));
-    std::getline(in, token);  // the first line; an editor's newline is not part of it
-    while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
-  }
-  if (!flag.empty()) {
-    if (const std::string why = monitor::control_token_problem(token); !why.empty()) {
-      throw std::runtime_error(flag + ": the token " + why);
-    }
-    return token;
-  }
-  if (!o.dashboard_control || o.no_dashboard || monitor::bind_is_loopback(bind_address)) return "";
-  drawn = true;
-  return monitor::generate_control_token();
-}
-
-int run(const RunOptions& o) {
-  scenario::Scenario s;
-  try {
-    s = build_scenario(o);
-  } catch (const scenario::ScenarioError& e) {
-    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
-    return 2;
-  }
-  RunRanks ranks;
-  if (const auto why = start_ranks(s, run_fingerprint(o), ranks)) {
-    std::fprintf(stderr, "rfsitl run: %s\n", why->c_str());
-    return 2;
-  }
-  // In a distributed run rank 0 speaks for the run: the banner, the stats,
-  // the summary and its JSON, the dashboard.
-  const bool speaks = ranks.rank == 0;
-  std::string bind_address;
-  try {
-    bind_address = io::resolve_bind_address(s.ports.bind_address);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "rfsitl run: ports.bind: %s\n", e.what());
-    return 2;
-  }
-  // The token too: a token file that cannot be used fails before the ports open.
-  bool token_drawn = false;
-  std::string control_token;
-  try {
-    control_token = dashboard_control_token(o, bind_address, token_drawn);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
-    return 2;
-  }
-  const bool token_needed = !control_token.empty();
-  // Output files are opened now: a path that cannot be written fails before
-  // the run, not after it with the results lost.
-  std::ofstream summary_out;
-  if (!o.summary_json.empty() && speaks) {
-    summary_out.open(o.summary_json);
-    if (!summary_out) {
-      std::fprintf(stderr, "rfsitl run: --summary-json %s: cannot write: %s\n",
-                   o.summary_json.c_str(), std::strerror(errno));
-      return 2;
-    }
-  }
-  // Signals are taken synchronously by this thread only; block them before any
-  // other thread exists so that every thread inherits the mask.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-
-  agent_port::NetPortsConfig sc{bind_address, s.ports.net_base, {}, {}};
-  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
-    if (s.phy_of(i).external_program()) sc.external_net_ports.push_back(s.nodes[i].id);
-    if (!ranks.here(i)) sc.elsewhere.push_back(s.nodes[i].id);
-  }
-  auto servers = agent_port::make_net_ports(sc);
-  // With IP, Ethernet frames go to the nodes' interfaces and the rest on to
-  // the net ports. Made now: without the privileges nothing else starts. In a
-  // distributed run each rank serves its own nodes, one rank per host claims
-  // the namespaces' prefix, and all wait for the claims (agree() is a
-  // barrier) before any makes a namespace.
-  std::unique_ptr<agent_port::IpPorts> ipnet;
-  if (s.ip.enabled) {
-    std::string error;
-    try {
-      ipnet = agent_port::make_ip_ports(s, *servers,
-                                        {ranks.here_mask(s.nodes.size()), ranks.first_on_host()});
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-    if (const auto why = agree(ranks, error)) {
-      std::fprintf(stderr, "rfsitl run: %s\n", why->c_str());
-      return 2;
-    }
-  }
-  engine::FrameSink& sink = ipnet ? static_cast<engine::FrameSink&>(*ipnet) : *servers;
-  std::unique_ptr<external::ExternalRuntime> external;
-  std::unique_ptr<engine::Engine> engine;
-  // Observers of the engine: destroyed before it.
-  std::unique_ptr<monitor::PcapTrace> pcap;
-  std::unique_ptr<monitor::SigmfRecorder> sigmf;
-  // Live sources report into the engine and the dashboard reads them: declared
-  // between the two so that they are destroyed in that order.
-  std::unique_ptr<LiveSources> sources;
-  std::unique_ptr<monitor::Dashboard> dashboard;
-  // The other ranks' side of rank 0's dashboard: what their nodes showed.
-  std::unique_ptr<monitor::LiveView> rank_view;
-  std::string drawn_token_url;
-  // A distributed run's ranks each trace their own nodes, into files of their own.
-  const std::string pcap_path =
-      ranks.distributed() ? rank_file_name(o.pcap_path, ranks.rank) : o.pcap_path;
-  std::string setup_error;
-  try {
-    // A distributed run's ranks each serve their own external nodes, on a
-    // socket of their own (rank_file_name: /tmp/rfsitl-<base>.rank<R>.sock).
-    external = external::ExternalRuntime::create(
-        s, {ranks.here_mask(s.nodes.size()),
-            ranks.distributed() ? rank_file_name(external::external_socket_path(s), ranks.rank)
-                                : std::string()});
-    engine = engine::make_engine(
-        s, sink, external ? external->transceiver_factory() : engine::TransceiverFactory{},
-        ranks.distribution());
-    if (!o.pcap_path.empty()) {
-      pcap = monitor::make_pcap_trace(monitor::PcapTraceSettings{
-          pcap_path, static_cast<std::uint64_t>(o.pcap_max_mb * 1024 * 1024), o.pcap_files,
-          s.timing.sample_rate_hz, 10.0 * std::log10(std::max(s.channel.noise_variance, 1e-30))});
-      engine->add_observer(*pcap);
-    }
-    if (!o.sigmf_dir.empty()) {
-      monitor::SigmfSettings ss;
-      ss.directory = o.sigmf_dir;
-      for (const unsigned id : o.sigmf_nodes) ss.nodes.push_back(static_cast<NodeId>(id));
-      if (ss.nodes.empty()) {
-        for (const auto& n : s.nodes) ss.nodes.push_back(n.id);
-      }
-      std::erase_if(ss.nodes, [&](NodeId id) { return !ranks.here(*engine->index_of(id)); });
-      ss.start_s = o.sigmf_start_s;
-      ss.duration_s = o.sigmf_duration_s;
-      ss.max_bytes = static_cast<std::uint64_t>(o.sigmf_max_mb * 1024 * 1024);
-      sigmf = monitor::make_sigmf_recorder(ss, s);
-      engine->add_observer(*sigmf);
-    }
-    sources =
-        std::make_unique<LiveSources>(s, position::SourceContext{bind_address, s.ports.loc_base},
-                                      ranks.here_mask(s.nodes.size()));
-    sources->start(*engine);
-    if (!o.no_dashboard && speaks) {
-      monitor::DashboardSettings ds;
-      ds.bind_address = bind_address;
-      ds.port = o.dashboard_port.value_or(ds.port);
-      ds.fall_back_to_any_port = !o.dashboard_port;
-      ds.control = o.dashboard_control;
-      ds.control_token = control_token;
-      ds.sources = sources->status_fn();
-      dashboard = monitor::start_dashboard(ds, s, *engine);
-      if (token_drawn) drawn_token_url = dashboard->url() + "?token=" + control_token;
-    } else if (!o.no_dashboard && ranks.distributed()) {
-      rank_view = std::make_unique<monitor::LiveView>(engine->node_ids());
-      engine->add_observer(*rank_view);
-    }
-    // Last: a frame an agent hands in reaches every observer (the traces, the
-    // dashboard's live view) from the net ports' thread, so all of them are
-    // added before the ports open (add_observer is not thread-safe).
-    servers->start(*engine);
-    if (ipnet) ipnet->start(*engine);
-    if (external) external->start_children();
-  } catch (const std::exception& e) {
-    setup_error = e.what();
-  }
-  // Every rank starts, or none does (one process: its own verdict).
-  if (const auto why = agree(ranks, setup_error)) {
-    std::fprintf(stderr, "rfsitl run: %s\n", why->c_str());
-    // Nothing ran: leave no empty summary or trace behind to be mistaken for a
-    // run's results.
-    if (summary_out.is_open()) {
-      summary_out.close();
-      std::remove(o.summary_json.c_str());
-    }
-    if (pcap) std::remove(pcap_path.c_str());  // unlinked; the object closes it later
-    return 2;
-  }
-  if (speaks) {
+/// What is printed once every face is open, before the first tick: the
+/// banner, the ranks, the IP interfaces, the dashboard; then the wait for
+/// external nodes. False when interrupted during that wait.
+bool announce(session::Session& run, const sigset_t& signals) {
+  const scenario::Scenario& s = run.scenario();
+  const session::RunRanks& ranks = run.ranks();
+  engine::Engine& engine = run.engine();
+  const agent_port::NetPortsConfig& sc = run.net_ports_config();
+  const session::SessionOptions& o = run.options();
+  if (run.speaks()) {
     std::vector<std::string> served_by(s.nodes.size());
     for (std::size_t i = 0; i < s.nodes.size(); ++i) {
       if (ranks.here(i)) continue;
@@ -441,60 +237,46 @@ int run(const RunOptions& o) {
       served_by[i] = "rank " + std::to_string(r) +
                      (r < ranks.hosts.size() ? " (host " + ranks.hosts[r] + ")" : "");
     }
-    print_banner(s, sc, *sources, *engine, served_by);
-  }
-  if (ranks.distributed() && speaks) {
-    std::fputs(describe_ranks(s, ranks).c_str(), stdout);
-    std::fflush(stdout);
-  }
-  // Every rank's interfaces, which rank 0 prints and puts in the summary.
-  std::vector<agent_port::IpNodeInfo> ip_nodes;
-  nlohmann::json ip_stale = nlohmann::json::array();
-  if (ipnet) {
-    const nlohmann::json mine = ipnet->summary();
-    for (const std::string& text :
-         gather_texts(ranks, nlohmann::json{mine["nodes"], mine["removed_stale"]}.dump())) {
-      const nlohmann::json theirs = nlohmann::json::parse(text);
-      for (auto& n : agent_port::ip_nodes_from_json(theirs[0])) ip_nodes.push_back(std::move(n));
-      for (const auto& name : theirs[1]) ip_stale.push_back(name);
+    print_banner(s, sc, *run.sources(), engine, served_by);
+    if (ranks.distributed()) {
+      std::fputs(session::describe_ranks(s, ranks).c_str(), stdout);
+      std::fflush(stdout);
     }
-    std::sort(ip_nodes.begin(), ip_nodes.end(), [&](const auto& a, const auto& b) {
-      return engine->index_of(a.id) < engine->index_of(b.id);
-    });
-    if (speaks) print_ip_banner(ip_nodes);
+    if (s.ip.enabled) print_ip_banner(run.ip_nodes());
   }
-  if (dashboard) {
-    const char* control = !o.dashboard_control ? "off; --dashboard-control allows it"
-                          : !token_needed      ? "allowed"
-                          : token_drawn        ? "only with the control token of the URL below"
-                                               : "only with the control token you gave";
+  if (const monitor::Dashboard* dashboard = run.dashboard()) {
+    const bool drawn = run.dashboard_token_drawn();
+    const char* control = !o.dashboard.control            ? "off; --dashboard-control allows it"
+                          : run.dashboard_token().empty() ? "allowed"
+                          : drawn ? "only with the control token of the URL below"
+                                  : "only with the control token you gave";
     std::printf("rfsitl: dashboard %s (moving nodes %s)\n", dashboard->url().c_str(), control);
-    if (token_drawn) {
+    if (drawn) {
       // Printed once: the dashboard is reachable beyond this machine, so the
       // token is what keeps others on the network from moving nodes.
       std::printf(
           "rfsitl: dashboard control URL (its token, drawn for this run, lets whoever has it move "
-          "nodes; viewing needs none): %s\n",
-          drawn_token_url.c_str());
+          "nodes; viewing needs none): %s?token=%s\n",
+          dashboard->url().c_str(), run.dashboard_token().c_str());
     }
     std::fflush(stdout);
   }
   const std::string who =
       ranks.distributed() ? "rfsitl: rank " + std::to_string(ranks.rank) : "rfsitl";
+  const external::ExternalRuntime* external = run.external();
   if (external && external->serves_any() && !wait_for_external_nodes(*external, s, signals, who)) {
-    print_summary(*engine);
-    return 1;
+    return false;
   }
   const std::size_t own_net_ports =
       s.nodes.size() - sc.external_net_ports.size() - sc.elsewhere.size();
-  if (speaks) {
+  if (run.speaks()) {
     std::printf(
         "rfsitl: ready, listening on %zu net port(s) and %zu location port(s)%s; %s\n",
         own_net_ports, s.nodes.size() - sc.elsewhere.size(),
         ranks.distributed() ? " on rank 0 (the others on theirs)" : "",
         s.timing.duration_s > 0 ? "stops after the duration or at Ctrl-C" : "Ctrl-C to stop");
   }
-  if (s.timing.mode == scenario::TimeMode::kVirtual && speaks) {
+  if (s.timing.mode == scenario::TimeMode::kVirtual && run.speaks()) {
     // Virtual time does not wait for the wall clock, so live agents cannot keep
     // up with it: their frames enter at whatever tick the engine has reached.
     std::printf(
@@ -503,93 +285,133 @@ int run(const RunOptions& o) {
         s.traffic.size());
   }
   std::fflush(stdout);
+  return true;
+}
 
-  std::atomic<bool> stop{false};
-  std::atomic<bool> finished{false};
-  std::string engine_error;  // written by the engine's thread before `finished`
-  std::thread engine_thread([&] {
-    try {
-      engine->run(stop);
-    } catch (const std::exception& e) {
-      // A distributed run's exchange failed (the run cannot go on).
-      engine_error = e.what();
-    }
-    finished.store(true);
-  });
-
-  const double stats_every = s.engine.stats_interval_s;
-  double next_stats = stats_every;
-  const timespec poll{0, 50'000'000};
-  while (!finished.load()) {
-    const int sig = sigtimedwait(&signals, nullptr, &poll);
-    if (sig == SIGINT || sig == SIGTERM) {
-      std::printf("\nrfsitl: %s received, shutting down\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
-      break;
-    }
-    if (stats_every > 0 && engine->status().wall_s >= next_stats) {
-      if (speaks) print_stats_line(*engine);
-      next_stats += stats_every;
-    }
+/// The traces' closing lines (every rank its own files).
+void print_trace_lines(const session::SessionSummary& r) {
+  if (!r.pcap.is_null()) {
+    const std::string stopped = r.pcap["stopped"].get<bool>()
+                                    ? "; stopped early: " + r.pcap["error"].get<std::string>()
+                                    : "";
+    std::printf("rfsitl: pcap trace %s: %llu frame events%s\n",
+                r.pcap["path"].get<std::string>().c_str(),
+                static_cast<unsigned long long>(r.pcap["events_written"].get<std::uint64_t>()),
+                stopped.c_str());
   }
-  stop.store(true);
-  if (ranks.distributed()) {
-    // The ranks stop together at the next tick's exchange; a rank whose peers
-    // died waits there for ever (Open MPI does not survive a lost rank), so
-    // after a while it reports what it has and leaves.
-    for (int waited_ms = 0; !finished.load() && waited_ms < 10'000; waited_ms += 50) {
-      const timespec step{0, 50'000'000};
-      nanosleep(&step, nullptr);
-    }
-    if (!finished.load()) {
-      print_partial_summary(*engine, ranks);
-      std::_Exit(1);
-    }
-  }
-  engine_thread.join();
-  if (!engine_error.empty()) {
-    std::fprintf(stderr, "rfsitl run: rank %zu: %s\n", ranks.rank, engine_error.c_str());
-    print_partial_summary(*engine, ranks);
-    std::_Exit(1);
-  }
-  sources->stop();
-  if (ipnet) ipnet->stop();
-  servers->stop();
-  if (sigmf) sigmf->finish();
-  if (pcap) {
-    pcap->flush();
-    const nlohmann::json trace = pcap->summary();
-    const std::string stopped =
-        trace["stopped"].get<bool>() ? "; stopped early: " + trace["error"].get<std::string>() : "";
-    std::printf("rfsitl: pcap trace %s: %llu frame events%s\n", o.pcap_path.c_str(),
-                static_cast<unsigned long long>(pcap->events_written()), stopped.c_str());
-  }
-  if (sigmf) {
-    const nlohmann::json recording = sigmf->summary();
-    for (const auto& n : recording["nodes"]) {
+  if (!r.sigmf.is_null()) {
+    for (const auto& n : r.sigmf["nodes"]) {
       if (n["stopped"].get<bool>()) {
         std::printf("rfsitl: SigMF recording %s stopped early: %s\n",
                     n["data"].get<std::string>().c_str(), n["error"].get<std::string>().c_str());
       }
     }
   }
-  // Collective in a distributed run: every rank's external nodes.
-  const nlohmann::json external_summary =
-      external ? merge_external_summaries(gather_texts(ranks, external->summary().dump()), *engine)
-               : nlohmann::json();
-  if (!speaks) return 0;
-  print_summary(*engine);
+}
+
+/// The CLI around a Session: options from the flags, the steps, the signals,
+/// and what is printed. Exit 2: nothing ran; 1: the run did not end well.
+int run(const RunOptions& o) {
+  session::SessionOptions options;
+  try {
+    options = session_options(o);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    return 2;
+  }
+  session::Session run(std::move(options));
+  try {
+    run.build_scenario();
+    run.place_ranks();
+  } catch (const session::SessionError& e) {
+    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    return 2;
+  }
+  // In a distributed run rank 0 speaks for the run: the banner, the stats,
+  // the summary and its JSON, the dashboard. Its output file is opened now: a
+  // path that cannot be written fails before the run, not after it with the
+  // results lost.
+  std::ofstream summary_out;
+  if (!o.summary_json.empty() && run.speaks()) {
+    summary_out.open(o.summary_json);
+    if (!summary_out) {
+      std::fprintf(stderr, "rfsitl run: --summary-json %s: cannot write: %s\n",
+                   o.summary_json.c_str(), std::strerror(errno));
+      return 2;
+    }
+  }
+  // Signals are taken synchronously by this thread only; block them before the
+  // ports' and the engine's threads exist so that every thread inherits the mask.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  const double stats_every = run.scenario().engine.stats_interval_s;
+  double next_stats = stats_every;
+  session::ServeHooks hooks;
+  hooks.ready = [&] { return announce(run, signals); };
+  hooks.poll = [&] {
+    const timespec poll{0, 50'000'000};
+    const int sig = sigtimedwait(&signals, nullptr, &poll);
+    if (sig == SIGINT || sig == SIGTERM) {
+      std::printf("\nrfsitl: %s received, shutting down\n", sig == SIGINT ? "SIGINT" : "SIGTERM");
+      return false;
+    }
+    if (stats_every > 0 && run.engine().status().wall_s >= next_stats) {
+      if (run.speaks()) print_stats_line(run.engine());
+      next_stats += stats_every;
+    }
+    return true;
+  };
+  session::ServeResult served;
+  try {
+    run.make_ports();
+    run.make_ip();
+    run.make_external();
+    run.make_engine();
+    run.add_observers();
+    served = run.serve(hooks);
+  } catch (const session::SessionError& e) {
+    std::fprintf(stderr, "rfsitl run: %s\n", e.what());
+    // Nothing ran: leave no empty summary behind to be mistaken for a run's
+    // results (the session removes its trace).
+    if (summary_out.is_open()) {
+      summary_out.close();
+      std::remove(o.summary_json.c_str());
+    }
+    return 2;
+  }
+  const session::RunRanks& ranks = run.ranks();
+  switch (served.end) {
+    case session::ServeEnd::kCompleted:
+      break;
+    case session::ServeEnd::kCancelled:
+      print_summary(run.engine());
+      return 1;
+    case session::ServeEnd::kFailed:
+      std::fprintf(stderr, "rfsitl run: rank %zu: %s\n", ranks.rank, served.error.c_str());
+      [[fallthrough]];
+    case session::ServeEnd::kPeersLost:
+      // Open MPI does not survive a lost rank: leave without unwinding.
+      print_partial_summary(run.engine(), ranks);
+      std::_Exit(1);
+  }
+  const session::SessionSummary& r = run.finish();
+  print_trace_lines(r);
+  if (!run.speaks()) return 0;
+  print_summary(run.engine());
   if (ranks.distributed()) {
+    const scenario::Scenario& s = run.scenario();
     const double tick_s = s.timing.tick_samples / s.timing.sample_rate_hz;
     std::printf("distributed run, %zu ranks:\n%s", ranks.size,
-                rank_summary(*engine, tick_s).c_str());
+                session::rank_summary(run.engine(), tick_s).c_str());
     std::fflush(stdout);
   }
-  if (external) print_external_summary(external_summary);
+  if (!r.external.is_null()) print_external_summary(r.external);
   if (summary_out.is_open()) {
-    const nlohmann::json j =
-        summary_json({s, *engine, *sources, ranks, external ? &external_summary : nullptr,
-                      pcap.get(), sigmf.get(), ipnet.get(), ip_nodes, ip_stale});
-    summary_out << monitor::json_text(j, 2) << "\n";
+    summary_out << monitor::json_text(r.document, 2) << "\n";
     summary_out.flush();
     if (!summary_out) {
       std::fprintf(stderr, "rfsitl run: cannot write %s\n", o.summary_json.c_str());

@@ -1,6 +1,7 @@
 #pragma once
-/// `mpirun -n K rfsitl run ...`: what `rfsitl run` does differently as one
-/// rank of a distributed run (README, "Distributed runs").
+/// `mpirun -n K rfsitl run ...`: what a session does differently as one rank
+/// of a distributed run (README, "Distributed runs"): which nodes are its own,
+/// and the collective verdicts and gathers its steps take together.
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -12,7 +13,7 @@
 #include "rfsitl/engine/engine.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
-namespace rfsitl::app {
+namespace rfsitl::session {
 
 /// This process's part of the run: every node its own without mpirun.
 struct RunRanks {
@@ -63,4 +64,4 @@ std::string describe_ranks(const scenario::Scenario& s, const RunRanks& ranks);
 /// tick, time in the exchanges).
 std::string rank_summary(const engine::Engine& e, double tick_s);
 
-}  // namespace rfsitl::app
+}  // namespace rfsitl::session

@@ -1,4 +1,4 @@
-#include "distributed_run.hpp"
+#include "rfsitl/session/run_ranks.hpp"
 
 #include <cstdio>
 #include <cstring>
@@ -7,7 +7,7 @@
 #include "rfsitl/cluster/mpi_launch.hpp"
 #include "rfsitl/cluster/node_assignment.hpp"
 
-namespace rfsitl::app {
+namespace rfsitl::session {
 namespace {
 
 /// FNV-1a, 64 bits: equal texts give equal values on every host.
@@ -124,4 +124,4 @@ std::string rank_summary(const engine::Engine& e, double tick_s) {
   return out;
 }
 
-}  // namespace rfsitl::app
+}  // namespace rfsitl::session

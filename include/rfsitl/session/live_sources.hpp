@@ -11,7 +11,7 @@
 #include "rfsitl/position/source/position_source.hpp"
 #include "rfsitl/scenario/scenario.hpp"
 
-namespace rfsitl::app {
+namespace rfsitl::session {
 
 class LiveSources {
  public:
@@ -56,4 +56,4 @@ class LiveSources {
 void follow_source(scenario::Scenario& s, const position::PositionSourceComponent& source,
                    const std::string& value);
 
-}  // namespace rfsitl::app
+}  // namespace rfsitl::session

@@ -1,9 +1,9 @@
-#include "live_sources.hpp"
+#include "rfsitl/session/live_sources.hpp"
 
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 
-namespace rfsitl::app {
+namespace rfsitl::session {
 
 namespace {
 constexpr const char* kLocationPort = scenario::PositionSourceChoice::kLocationPort;
@@ -89,4 +89,4 @@ void follow_source(scenario::Scenario& s, const position::PositionSourceComponen
   for (auto& n : s.nodes) n.source.reset();
 }
 
-}  // namespace rfsitl::app
+}  // namespace rfsitl::session
