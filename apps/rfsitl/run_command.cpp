@@ -26,6 +26,7 @@
 #include "commands.hpp"
 #include "rfsitl/agent_port/net_ports.hpp"
 #include "rfsitl/engine/engine.hpp"
+#include "rfsitl/engine/preflight.hpp"
 #include "rfsitl/external/external_runtime.hpp"
 #include "rfsitl/monitor/control_token.hpp"
 #include "rfsitl/monitor/dashboard.hpp"
@@ -118,6 +119,8 @@ struct RunOptions {
   std::optional<std::string> dashboard_token_file;  ///< --dashboard-token-file
   bool no_skip = false;
   bool shared_noise = false;
+  bool preflight = false;     ///< --preflight: measure, say, exit
+  bool no_preflight = false;  ///< --no-preflight: no check at start
   bool ip = false;
   std::optional<std::string> mac;  ///< --mac NAME
   std::string summary_json;
@@ -309,6 +312,38 @@ void print_trace_lines(const session::SessionSummary& r) {
   }
 }
 
+/// --preflight: the scenario's first seconds in virtual time on this machine,
+/// and whether real time will hold. Exit 0 when it holds, 1 when it does not.
+int preflight_only(const session::Session& run) {
+  if (!run.speaks()) return 0;
+  try {
+    const engine::PreflightReport r = engine::preflight(run.scenario());
+    std::printf("rfsitl: preflight (%.2f virtual s in %.2f s): %s\n", r.virtual_s, r.wall_s,
+                r.summary().c_str());
+    return r.speed() >= 1.0 ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rfsitl run: --preflight: %s\n", e.what());
+    return 2;
+  }
+}
+
+/// Before a real-time run: a short preflight (a second of virtual time, at
+/// most 1.5 s of wall time) and a warning when real time will not hold or
+/// holds with little margin. Silent otherwise; --no-preflight skips it.
+void warn_if_real_time_at_risk(const session::Session& run) {
+  const scenario::Scenario& s = run.scenario();
+  if (s.timing.mode != scenario::TimeMode::kRealTime || run.ranks().distributed()) return;
+  try {
+    const engine::PreflightReport r = engine::preflight(s, 1.0, 1.5);
+    if (r.margin() < engine::kPreflightMinMargin) {
+      std::printf("rfsitl: warning: %s (rfsitl run --preflight measures longer)\n",
+                  r.summary().c_str());
+    }
+  } catch (const std::exception&) {
+    // Whatever stops the engine from being built, the run's own steps report.
+  }
+}
+
 /// The CLI around a Session: options from the flags, the steps, the signals,
 /// and what is printed. Exit 2: nothing ran; 1: the run did not end well.
 int run(const RunOptions& o) {
@@ -327,6 +362,8 @@ int run(const RunOptions& o) {
     std::fprintf(stderr, "rfsitl run: %s\n", e.what());
     return 2;
   }
+  if (o.preflight) return preflight_only(run);
+  if (!o.no_preflight) warn_if_real_time_at_risk(run);
   // In a distributed run rank 0 speaks for the run: the banner, the stats,
   // the summary and its JSON, the dashboard. Its output file is opened now: a
   // path that cannot be written fails before the run, not after it with the
@@ -502,6 +539,14 @@ std::function<int()> add_run_command(CLI::App& parent) {
       ->needs(control)
       ->excludes(token);
   cmd->add_flag("--no-skip", opts->no_skip, "Run every receiver every tick (no silence skipping)");
+  CLI::Option* preflight = cmd->add_flag(
+      "--preflight", opts->preflight,
+      "Run the scenario's first 2 s in virtual time, say whether real time will hold on this "
+      "machine (cores needed, margin) and exit: 0 if it holds, 1 if not");
+  cmd->add_flag("--no-preflight", opts->no_preflight,
+                "Skip the one-second check before a real-time run (it warns when real time is at "
+                "risk)")
+      ->excludes(preflight);
   cmd->add_flag("--shared-noise", opts->shared_noise,
                 "One noise source for all receivers (the paper's setup)");
   cmd->add_option("--summary-json", opts->summary_json,
