@@ -125,8 +125,7 @@ Cost measure(const scenario::Scenario& s, std::size_t active, std::size_t ticks,
   const std::size_t b = s.timing.tick_samples;
   channel::Channel ch(
       n, scenario::make_link_budget(s), s.channel.origin,
-      channel::ChannelConfig{
-          s.channel.noise_variance, false, s.seed, s.timing.sample_rate_hz, b, {}, {}});
+      channel::ChannelConfig{s.channel.noise_variance, false, s.seed, s.timing.sample_rate_hz, b});
   std::vector<Ecef> at(n);
   for (std::size_t i = 0; i < n; ++i) {
     at[i] = to_ecef(*s.nodes[i].initial_position, s.channel.origin);

@@ -162,13 +162,13 @@ int main(int argc, char** argv) {
       "speed=%.2f x real "
       "time; "
       "frames %llu delivered %llu lost %llu (collision %llu, half-duplex %llu) "
-      "receiver-ticks run %llu skipped %llu\n",
+      "receiver-ticks run %llu skipped %llu; workers at the end %zu\n",
       o.nodes, o.no_skip ? "off" : "on", o.fading.empty() ? "none" : o.fading.c_str(),
       o.multipath.empty() ? "none" : o.multipath.c_str(), st.virtual_s, wall, speed,
       u(total.handed_in), u(total.delivered), u(total.lost_total()),
       u(total.lost[static_cast<std::size_t>(engine::LossReason::kCollision)]),
       u(total.lost[static_cast<std::size_t>(engine::LossReason::kHalfDuplex)]),
-      u(st.receiver_ticks_run), u(st.receiver_ticks_skipped));
+      u(st.receiver_ticks_run), u(st.receiver_ticks_skipped), st.workers);
   if (!o.csv.empty()) {
     std::ifstream probe(o.csv);
     const bool fresh = !probe.good() || probe.peek() == std::ifstream::traits_type::eof();

@@ -10,22 +10,23 @@
 # Nothing else names a component: adding one is its folder.
 
 # The kinds: the C++ namespace, component type and header of each.
-set(RFSITL_COMPONENT_KINDS phy mac channel_stage position_source mobility)
-set(RFSITL_KIND_phy_NAMESPACE rfsitl::phy)
-set(RFSITL_KIND_phy_TYPE PhyComponent)
-set(RFSITL_KIND_phy_HEADER rfsitl/phy/phy_component.hpp)
-set(RFSITL_KIND_mac_NAMESPACE rfsitl::mac)
-set(RFSITL_KIND_mac_TYPE MacComponent)
-set(RFSITL_KIND_mac_HEADER rfsitl/mac/mac.hpp)
-set(RFSITL_KIND_channel_stage_NAMESPACE rfsitl::channel)
-set(RFSITL_KIND_channel_stage_TYPE ChannelStageComponent)
-set(RFSITL_KIND_channel_stage_HEADER rfsitl/channel/channel_stage.hpp)
-set(RFSITL_KIND_position_source_NAMESPACE rfsitl::position)
-set(RFSITL_KIND_position_source_TYPE PositionSourceComponent)
-set(RFSITL_KIND_position_source_HEADER rfsitl/position/source/position_source.hpp)
-set(RFSITL_KIND_mobility_NAMESPACE rfsitl::position::mobility)
-set(RFSITL_KIND_mobility_TYPE MobilityComponent)
-set(RFSITL_KIND_mobility_HEADER rfsitl/position/mobility/mobility_component.hpp)
+set(RFSITL_COMPONENT_KINDS "")
+macro(rfsitl_component_kind kind namespace type header)
+  list(APPEND RFSITL_COMPONENT_KINDS ${kind})
+  set(RFSITL_KIND_${kind}_NAMESPACE ${namespace})
+  set(RFSITL_KIND_${kind}_TYPE ${type})
+  set(RFSITL_KIND_${kind}_HEADER ${header})
+endmacro()
+rfsitl_component_kind(phy rfsitl::phy PhyComponent rfsitl/phy/phy_component.hpp)
+rfsitl_component_kind(mac rfsitl::mac MacComponent rfsitl/mac/mac.hpp)
+rfsitl_component_kind(channel_stage rfsitl::channel ChannelStageComponent
+                      rfsitl/channel/channel_stage.hpp)
+rfsitl_component_kind(sample_stage rfsitl::channel SampleStageComponent
+                      rfsitl/channel/sample_stage.hpp)
+rfsitl_component_kind(position_source rfsitl::position PositionSourceComponent
+                      rfsitl/position/source/position_source.hpp)
+rfsitl_component_kind(mobility rfsitl::position::mobility MobilityComponent
+                      rfsitl/position/mobility/mobility_component.hpp)
 
 # rfsitl_component(KIND <kind> NAME <name> TARGET <library> [FUNCTION <fn>])
 function(rfsitl_component)

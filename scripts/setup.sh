@@ -8,7 +8,7 @@ PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config clang-format
   libliquid-dev libfec-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-matplotlib
+  python3 python3-matplotlib python3-yaml
   # GNU Radio 3.10 and what our out-of-tree blocks (gr-rfsitl/) build with
   gnuradio gnuradio-dev pybind11-dev python3-dev
   # traces: libpcap to read pcapng back in tests, tshark to check Wireshark's view

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "rfsitl/channel/front_end.hpp"
 #include "rfsitl/channel/radio.hpp"
 #include "rfsitl/config/settings_table.hpp"
 #include "rfsitl/position/mobility/mobility_component.hpp"
@@ -16,6 +15,7 @@
 #include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
+#include "rfsitl/registry/sample_stage_registry.hpp"
 
 namespace rfsitl::app {
 namespace {
@@ -27,8 +27,8 @@ struct DescribeOptions {
 };
 
 // Every registered component, grouped by kind in data-path order: where nodes
-// are (live sources, mobility models), the transceivers, their MACs, the channel's stages,
-// and the radio whose link budget they complete.
+// are (live sources, mobility models), the transceivers, their MACs, the channel's stages
+// (on links, then on samples), and the radio whose link budget they complete.
 std::vector<const config::ComponentInfo*> all_components() {
   std::vector<const config::ComponentInfo*> out;
   for (const position::PositionSourceComponent& s : position::position_source_components())
@@ -39,8 +39,9 @@ std::vector<const config::ComponentInfo*> all_components() {
   for (const mac::MacComponent& m : mac::mac_components()) out.push_back(&m.info);
   for (const channel::ChannelStageComponent& s : channel::channel_stage_components())
     out.push_back(&s.info);
+  for (const channel::SampleStageComponent& s : channel::sample_stage_components())
+    out.push_back(&s.info);
   out.push_back(&channel::radio_info());
-  out.push_back(&channel::front_end_info());
   return out;
 }
 

@@ -8,13 +8,11 @@
 #include <stdexcept>
 #include <utility>
 
+#include "noise_stage.hpp"
 #include "rfsitl/channel/mixer.hpp"
 
 namespace rfsitl::channel {
 namespace {
-
-/// The noise stream of shared_noise: not a receiver's index.
-constexpr std::uint64_t kSharedNoiseStream = std::uint64_t{1} << 32;
 
 /// signal_end_ of a node that never transmitted.
 constexpr SampleTime kNever = std::numeric_limits<SampleTime>::min() / 2;
@@ -26,7 +24,8 @@ cf32 to_cf32(std::complex<double> v) {
 }  // namespace
 
 Channel::Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
-                 const GeodeticPosition& origin, const ChannelConfig& config)
+                 const GeodeticPosition& origin, const ChannelConfig& config, SampleChain transmit,
+                 SampleChain receive)
     : matrix_(nodes, std::move(budget), origin, config.sample_rate_hz),
       config_(config),
       gain_(1.0 / std::sqrt(config.noise_variance > 0.0 ? config.noise_variance : 1e-12)),
@@ -36,47 +35,36 @@ Channel::Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
                         ? std::max<SampleTime>(
                               1, std::llround(matrix_.update_interval_s() * config.sample_rate_hz))
                         : 0),
-      noise_(nodes) {
+      transmit_(std::move(transmit)) {
   if (config.tick_samples == 0) throw std::invalid_argument("Channel: tick_samples must be > 0");
   if (matrix_.dispersive()) {
     history_.assign(nodes, std::vector<cf32>(config.tick_samples, cf32{}));
     signal_end_.assign(nodes, kNever);
   }
-  // Streams 0..N-1 transmit, N..2N-1 receive.
-  for (std::size_t i = 0; i < nodes; ++i) {
-    if (!is_ideal(config.tx_impairments)) {
-      tx_front_.emplace_back(config.tx_impairments, FrontEndSide::kTransmit, config.sample_rate_hz,
-                             config.tick_samples, config.seed, i);
-    }
-    if (!is_ideal(config.rx_impairments)) {
-      rx_front_.emplace_back(config.rx_impairments, FrontEndSide::kReceive, config.sample_rate_hz,
-                             config.tick_samples, config.seed, nodes + i);
-    }
+  if (!transmit_.empty()) staged_.assign(nodes, std::vector<cf32>(config.tick_samples));
+  if (config.noise_variance > 0.0) {
+    const auto unit = static_cast<float>(config.noise_variance * gain_ * gain_);
+    receive_.push_back(std::make_unique<NoiseStage>(nodes, config.shared_noise, config.seed, unit,
+                                                    config.tick_samples));
   }
-  if (!tx_front_.empty()) impaired_.assign(nodes, std::vector<cf32>(config.tick_samples));
-  if (config.noise_variance <= 0.0) return;
-  const auto unit = static_cast<float>(config.noise_variance * gain_ * gain_);
-  if (config.shared_noise) {
-    shared_noise_.emplace(config.seed, kSharedNoiseStream, unit);
-    shared_noise_buf_.assign(config.tick_samples, cf32{});
-  } else {
-    for (std::size_t i = 0; i < nodes; ++i) noise_[i].emplace(config.seed, i, unit);
+  for (auto& stage : receive) {
+    skipping_exact_ = skipping_exact_ && stage->keeps_skipping_exact();
+    receive_.push_back(std::move(stage));
   }
 }
 
 void Channel::on_air(SampleTime tick_start, std::span<const Transmission> active) {
   tick_start_ = tick_start;
-  for (FrontEnd& f : rx_front_) f.advance(tick_start);
-  if (!tx_front_.empty()) {
-    for (FrontEnd& f : tx_front_) f.advance(tick_start);
-    impaired_active_.clear();
+  if (!transmit_.empty()) {
+    for (const auto& stage : transmit_) stage->advance(tick_start, !active.empty());
+    staged_active_.clear();
     for (const Transmission& t : active) {
-      std::vector<cf32>& x = impaired_[t.node];
+      std::vector<cf32>& x = staged_[t.node];
       std::copy_n(t.samples, x.size(), x.begin());
-      tx_front_[t.node].apply(tick_start, x);
-      impaired_active_.push_back({t.node, x.data()});
+      for (const auto& stage : transmit_) stage->apply(t.node, tick_start, x);
+      staged_active_.push_back({t.node, x.data()});
     }
-    active = impaired_active_;
+    active = staged_active_;
   }
   active_ = active;
   if (matrix_.dispersive()) keep_history(tick_start, active);
@@ -114,7 +102,7 @@ void Channel::keep_history(SampleTime tick_start, std::span<const Transmission> 
 }
 
 void Channel::begin_tick(SampleTime tick_start, bool receivers_run) {
-  if (shared_noise_ && receivers_run) shared_noise_->fill(shared_noise_buf_, tick_start);
+  for (const auto& stage : receive_) stage->advance(tick_start, receivers_run);
 }
 
 bool Channel::tail_reaches(std::size_t n, std::size_t m, SampleTime from) const {
@@ -151,12 +139,8 @@ void Channel::receive(std::size_t m, std::size_t first, std::span<cf32> y, Scrat
 }
 
 void Channel::finish(std::size_t m, std::size_t first, std::span<cf32> y) const {
-  if (const auto& noise = noise_[m]) {
-    noise->add_to(y, static_cast<std::uint64_t>(tick_start_) + first);
-  } else if (shared_noise_) {
-    for (std::size_t t = 0; t < y.size(); ++t) y[t] += shared_noise_buf_[first + t];
-  }
-  if (!rx_front_.empty()) rx_front_[m].apply(tick_start_ + static_cast<SampleTime>(first), y);
+  const SampleTime from = tick_start_ + static_cast<SampleTime>(first);
+  for (const auto& stage : receive_) stage->apply(m, from, y);
 }
 
 bool Channel::mixes_together(std::size_t min_inputs) const {

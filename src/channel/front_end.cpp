@@ -32,9 +32,10 @@ const config::Fields<FrontEndSettings>& front_end_fields() {
 
 const config::ComponentInfo& front_end_info() {
   static const config::ComponentInfo info = front_end_fields().info(
-      "radio", "impairments",
-      "front-end imperfections of every node (channel.impairments.tx and .rx): carrier offset, "
-      "phase noise, I/Q imbalance, DC offset");
+      "sample", "impairments",
+      "front-end imperfections of every node: carrier offset, phase noise, I/Q imbalance, DC "
+      "offset (channel.impairments.tx and .rx are short for this stage first in tx_stages and "
+      "rx_stages)");
   return info;
 }
 

@@ -10,6 +10,7 @@
 #include "rfsitl/common/spsc_ring.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
+#include "rfsitl/scenario/sample_chain_of.hpp"
 
 namespace rfsitl::engine {
 
@@ -20,8 +21,9 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
       block_(s.timing.tick_samples),
       air_(s.nodes.size(), scenario::make_link_budget(s), s.channel.origin,
            channel::ChannelConfig{s.channel.noise_variance, s.channel.shared_noise, s.seed,
-                                  s.timing.sample_rate_hz, s.timing.tick_samples,
-                                  s.channel.tx_impairments, s.channel.rx_impairments}),
+                                  s.timing.sample_rate_hz, s.timing.tick_samples},
+           scenario::make_sample_chain(s, channel::SampleSide::kTransmit),
+           scenario::make_sample_chain(s, channel::SampleSide::kReceive)),
       channel_(air_.matrix()),
       counters_(s.nodes.size()),
       clock_(s.timing.sample_rate_hz, s.timing.tick_samples, s.timing.speed,
@@ -75,6 +77,8 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
       channel_.set_position(i, to_ecef(*s.nodes[i].initial_position, s.channel.origin));
     }
   }
+  // Remote transceivers mostly wait on a socket: each needs its worker.
+  tuner_.emplace(pool_.size(), s.engine.threads != 0 || remote_count_ > 0);
   std::vector<double> sensitivity;
   std::size_t latency = 0;
   for (const Node& node : nodes_) {
@@ -150,6 +154,7 @@ EngineStatus LockStepEngine::status() const {
   st.mobility_wall_s = rd(status_.mobility_wall_s);
   st.exchanged_bytes = rd(status_.exchanged_bytes);
   st.exchange_wall_s = rd(status_.exchange_wall_s);
+  st.workers = rd(status_.workers);
   return st;
 }
 
@@ -235,10 +240,9 @@ void LockStepEngine::run_tick() {
   // Waking the workers costs more than an idle transmitter's zero fill, so
   // the TX phase runs in parallel only when several nodes were on the air
   // (or a remote transceiver may make a round trip).
+  const std::size_t workers = tuner_->workers();
   if (active_.size() > kSerialTxLimit || remote_count_ > 0) {
-    pool_.run([this](std::size_t w) {
-      for (std::size_t j = w; j < tx_order_.size(); j += pool_.size()) tx_phase(tx_order_[j]);
-    });
+    pool_.for_each(tx_order_.size(), workers, [this](std::size_t j) { tx_phase(tx_order_[j]); });
   } else {
     for (std::size_t i = 0; i < nodes_.size(); ++i) tx_phase(i);
   }
@@ -247,17 +251,21 @@ void LockStepEngine::run_tick() {
   air_.on_air(now_, active_tx_);
   plan_receivers();
   air_.begin_tick(now_, !runnable_.empty());
-  // Receivers that run are dealt round-robin to the workers: balanced whatever
-  // their indices are. A few receivers that only hear noise (run because
-  // skipping is off or someone watches them) cost less than waking the workers.
+  // Receivers that run are taken by the workers one group at a time: balanced
+  // whatever their indices are and however the OS holds a worker up. A few
+  // receivers that only hear noise (run because skipping is off or someone
+  // watches them) cost less than waking the workers.
   group_receivers();
   if (busy_receivers_ > 1 || runnable_.size() >= kSerialNoiseOnlyLimit) {
-    pool_.run([this](std::size_t w) {
-      for (std::size_t j = w; j < rx_groups_.size(); j += pool_.size()) rx_group(rx_groups_[j]);
-    });
+    pool_.for_each(rx_groups_.size(), workers, [this](std::size_t j) { rx_group(rx_groups_[j]); });
   } else {
     for (const RxGroup& group : rx_groups_) rx_group(group);
   }
+  // What the parallel phases had to do: a receiver with more than noise costs
+  // far more than one that only runs on noise, a transmitter in between.
+  tuner_->tick_done(1.0 + static_cast<double>(busy_receivers_) +
+                    0.1 * static_cast<double>(runnable_.size() - busy_receivers_) +
+                    0.5 * static_cast<double>(active_tx_.size()));
   handle_decodes();
   now_ += block_;
   ledger_->settle(now_, channel_);
@@ -354,6 +362,7 @@ void LockStepEngine::publish_status() {
   wr(status_.receiver_ticks_run, run_ticks_);
   wr(status_.receiver_ticks_skipped, skipped_ticks_);
   wr(status_.receiver_ticks_blanked, blanked_ticks_);
+  wr(status_.workers, tuner_->workers());
   if (link_) {
     wr(status_.exchanged_bytes, link_->bytes_sent());
     wr(status_.exchange_wall_s, link_->wall_s());

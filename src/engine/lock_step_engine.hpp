@@ -31,6 +31,7 @@
 #include "rfsitl/engine/tick_clock.hpp"
 #include "rfsitl/engine/traffic_schedule.hpp"
 #include "rfsitl/engine/worker_pool.hpp"
+#include "worker_tuner.hpp"
 
 namespace rfsitl::engine {
 
@@ -137,7 +138,8 @@ class LockStepEngine final : public Engine {
   /// finished transmitting, or some other transmitter's signal reaches it: an
   /// active one with c_nm != 0, or through a delayed path the tail of an
   /// earlier transmission). Otherwise its input is pure noise, from which it cannot decode
-  /// anything. skip_idle_receivers = false runs every receiver every tick.
+  /// anything. skip_idle_receivers = false, or a receive stage that makes
+  /// skipping inexact (Channel::skipping_exact), runs every receiver every tick.
   /// Observers do not count: a watched idle receiver's input is computed for
   /// them (RxTick::kWatched) without running it.
   bool receiver_must_run(std::size_t m) const;
@@ -232,6 +234,7 @@ class LockStepEngine final : public Engine {
   std::optional<FrameLedger> ledger_;
   TickClock clock_;
   WorkerPool pool_;
+  std::optional<WorkerTuner> tuner_;  // how many of pool_'s workers a tick uses
   TrafficSchedule traffic_;
   MobilityDriver mobility_;
   SampleTime now_ = 0;
@@ -258,6 +261,7 @@ class LockStepEngine final : public Engine {
     std::atomic<double> mobility_wall_s{0.0};
     std::atomic<std::uint64_t> exchanged_bytes{0};
     std::atomic<double> exchange_wall_s{0.0};
+    std::atomic<std::size_t> workers{1};
   } status_;
 
   // Distributed run (make_engine's Distribution); in one process link_ is

@@ -10,7 +10,7 @@ namespace rfsitl::engine {
 bool LockStepEngine::receiver_must_run(std::size_t m) const {
   const Node& node = nodes_[m];
   if (blanked_whole_tick(node)) return false;
-  if (!scenario_.engine.skip_idle_receivers) return true;
+  if (!scenario_.engine.skip_idle_receivers || !air_.skipping_exact()) return true;
   return hears_more_than_noise(m);
 }
 

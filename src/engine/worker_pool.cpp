@@ -1,5 +1,7 @@
 #include "rfsitl/engine/worker_pool.hpp"
 
+#include <algorithm>
+
 namespace rfsitl::engine {
 namespace {
 
@@ -43,6 +45,23 @@ void WorkerPool::run(const std::function<void(std::size_t)>& task) {
        left = remaining_.load(std::memory_order_acquire)) {
     wait_change(remaining_, left);
   }
+}
+
+void WorkerPool::for_each(std::size_t count, std::size_t workers,
+                          const std::function<void(std::size_t)>& item) {
+  if (workers <= 1 || threads_.empty() || count <= 1) {
+    for (std::size_t j = 0; j < count; ++j) item(j);
+    return;
+  }
+  next_item_.store(0, std::memory_order_relaxed);
+  const std::size_t use = std::min(workers, size());
+  run([&](std::size_t w) {
+    if (w >= use) return;
+    for (std::size_t j = next_item_.fetch_add(1, std::memory_order_relaxed); j < count;
+         j = next_item_.fetch_add(1, std::memory_order_relaxed)) {
+      item(j);
+    }
+  });
 }
 
 void WorkerPool::worker_loop(std::size_t index) {

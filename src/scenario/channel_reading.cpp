@@ -1,39 +1,61 @@
 #include "channel_reading.hpp"
 
 #include <cmath>
+#include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "rfsitl/registry/channel_stage_registry.hpp"
+#include "rfsitl/registry/sample_stage_registry.hpp"
 
 namespace rfsitl::scenario::detail {
 namespace {
 
-// `{type: path_loss, model: free_space}`: a registered stage and its settings.
-StageChoice read_stage(Context& c, const Entry& at) {
+// `{type: path_loss, model: free_space}`: a registered stage of either kind
+// (`all`: the kind's registry, sorted) and its settings.
+template <class Component>
+StageChoice read_stage(Context& c, const Entry& at,
+                       const typename registry::Registry<Component>::List& all) {
   Section sec(c, at);
   const Entry type = sec.require("type");
   StageChoice stage{text(c, type), {}};
   std::vector<std::string> names;
   std::vector<const config::ComponentInfo*> stages;
-  for (const channel::ChannelStageComponent& component : channel::channel_stage_components()) {
+  const config::ComponentInfo* chosen = nullptr;
+  for (const Component& component : all) {
     names.push_back(component.info.name);
     stages.push_back(&component.info);
+    if (component.info.name == stage.type) chosen = &component.info;
   }
   c.check_name(stage.type, type.key, names);
-  const config::ComponentInfo& info = channel::find_channel_stage(stage.type)->info;
-  stage.settings = info.defaults();
-  read_declared(c, sec, at, info, stages, stage.settings);
+  stage.settings = chosen->defaults();
+  read_declared(c, sec, at, *chosen, stages, stage.settings);
   return stage;
 }
 
-// `{cfo_hz: 200, ...}` under channel.impairments.tx or .rx.
-channel::FrontEndSettings read_front_end(Context& c, const Entry& at) {
+// A list of stages under `key` (channel.stages, .tx_stages, .rx_stages).
+template <class Component>
+std::vector<StageChoice> read_stages(Context& c, const Entry& list,
+                                     const typename registry::Registry<Component>::List& all) {
+  if (!list.value.IsNull() && !list.value.IsSequence()) {
+    c.fail(list.key, "expected a list of stages ({type: ..., ...}), got " + kind_of(list.value));
+  }
+  std::vector<StageChoice> out;
+  for_each_item(c, list, [&](const Entry& e) { out.push_back(read_stage<Component>(c, e, all)); });
+  return out;
+}
+
+// `{cfo_hz: 200, ...}` under channel.impairments.tx or .rx: the settings of a
+// leading `impairments` sample stage, or nothing when they change nothing.
+std::optional<StageChoice> read_impairments(Context& c, const Entry& at) {
   Section sec(c, at);
-  const config::ComponentInfo& info = channel::front_end_info();
-  config::Settings settings = info.defaults();
-  read_declared(c, sec, at, info, {}, settings);
-  return channel::front_end_fields().build(settings);
+  const channel::SampleStageComponent* component = channel::find_sample_stage("impairments");
+  if (component == nullptr) c.fail(at.key, "this build has no impairments stage");
+  StageChoice stage{component->info.name, component->info.defaults()};
+  read_declared(c, sec, at, component->info, {}, stage.settings);
+  if (stage.settings == component->info.defaults()) return std::nullopt;
+  return stage;
 }
 
 // Two keys that say one thing two ways: accepting both would silently prefer one.
@@ -54,13 +76,15 @@ void read_channel_and_radio(Context& c, const Entry& channel, const Entry& radio
   const Entry variance = sec.take("noise_variance");
   const Entry power_db = sec.take("noise_power_db");
   sec.get("shared_noise", ch.shared_noise);
+  const Entry tx_stages = sec.take("tx_stages");
+  const Entry rx_stages = sec.take("rx_stages");
+  std::optional<Entry> tx_impairments;
+  std::optional<Entry> rx_impairments;
   if (const Entry impairments = sec.take("impairments")) {
     Section isec(c, impairments);
-    const Entry tx = isec.take("tx");
-    const Entry rx = isec.take("rx");
+    if (Entry tx = isec.take("tx")) tx_impairments = tx;
+    if (Entry rx = isec.take("rx")) rx_impairments = rx;
     isec.finish();
-    if (tx) ch.tx_impairments = read_front_end(c, tx);
-    if (rx) ch.rx_impairments = read_front_end(c, rx);
   }
   if (const Entry origin = sec.take("origin")) {
     const auto p = read_position(c, origin);
@@ -84,9 +108,23 @@ void read_channel_and_radio(Context& c, const Entry& channel, const Entry& radio
       c.fail(stages.key,
              "expected a list of stages ({type: ..., ...}), got " + kind_of(stages.value));
     }
-    ch.stages.clear();
-    for_each_item(c, stages, [&](const Entry& e) { ch.stages.push_back(read_stage(c, e)); });
+    ch.stages =
+        read_stages<channel::ChannelStageComponent>(c, stages, channel::channel_stage_components());
     if (ch.stages.empty()) c.fail(stages.key, "needs at least one stage (or leave it out)");
+  }
+  const auto& samples = channel::sample_stage_components();
+  for (const auto& [impairments, list, chain] :
+       {std::tuple{&tx_impairments, &tx_stages, &ch.tx_stages},
+        std::tuple{&rx_impairments, &rx_stages, &ch.rx_stages}}) {
+    if (!*impairments && !*list) continue;
+    chain->clear();
+    if (*impairments) {
+      if (auto stage = read_impairments(c, **impairments)) chain->push_back(std::move(*stage));
+    }
+    if (*list) {
+      for (StageChoice& stage : read_stages<channel::SampleStageComponent>(c, *list, samples))
+        chain->push_back(std::move(stage));
+    }
   }
 
   if (variance && power_db) {

@@ -17,6 +17,7 @@
 #include "rfsitl/registry/mobility_registry.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
+#include "rfsitl/registry/sample_stage_registry.hpp"
 #include "scenario_rules.hpp"
 
 namespace rfsitl::scenario::detail {
@@ -138,12 +139,14 @@ void check_source(const Context& c, const Scenario& s, const PositionSourceChoic
   }
 }
 
-// Every stage registered and its settings valid; the radio within its limits.
-void check_channel(const Context& c, const Scenario& s) {
-  for (std::size_t i = 0; i < s.channel.stages.size(); ++i) {
-    const StageChoice& stage = s.channel.stages[i];
-    const std::string key = "channel.stages[" + std::to_string(i) + "]";
-    const auto* component = channel::find_channel_stage(stage.type);
+// Every stage of a list registered (`find` by name) and its settings valid.
+template <class Find>
+void check_stages(const Context& c, const std::vector<StageChoice>& stages, const std::string& list,
+                  const Find& find) {
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    const StageChoice& stage = stages[i];
+    const std::string key = list + "[" + std::to_string(i) + "]";
+    const auto* component = find(stage.type);
     if (component == nullptr) c.fail(key + ".type", "unknown '" + stage.type + "'");
     try {
       component->info.validate(stage.settings);
@@ -151,20 +154,18 @@ void check_channel(const Context& c, const Scenario& s) {
       c.fail(e.key().empty() ? key : key + "." + e.key(), e.what());
     }
   }
+}
+
+// Every stage registered and its settings valid; the radio within its limits.
+void check_channel(const Context& c, const Scenario& s) {
+  check_stages(c, s.channel.stages, "channel.stages", channel::find_channel_stage);
+  check_stages(c, s.channel.tx_stages, "channel.tx_stages", channel::find_sample_stage);
+  check_stages(c, s.channel.rx_stages, "channel.rx_stages", channel::find_sample_stage);
   if (s.radio) {
     try {
       channel::radio_info().validate(channel::radio_fields().settings_of(*s.radio));
     } catch (const config::SettingError& e) {
       c.fail("radio." + e.key(), e.what());
-    }
-  }
-  // Scenarios built in code skip the reader's checks: the same limits here.
-  for (const auto& [side, fe] :
-       {std::pair{"tx", &s.channel.tx_impairments}, std::pair{"rx", &s.channel.rx_impairments}}) {
-    try {
-      channel::front_end_info().validate(channel::front_end_fields().settings_of(*fe));
-    } catch (const config::SettingError& e) {
-      c.fail(std::string("channel.impairments.") + side + "." + e.key(), e.what());
     }
   }
 }

@@ -17,6 +17,8 @@ import tempfile
 import threading
 import time
 
+import yaml
+
 BIN = os.environ.get("RFSITL_BIN", "rfsitl")
 TERMINATOR = b"\r\r\n\n"
 LOSS_REASONS = ("below_sensitivity", "collision", "half_duplex", "decode_failure",
@@ -48,6 +50,25 @@ def pick_port_bases(node_ids):
         if ports_free(ports):
             return net_base, loc_base
     raise RuntimeError("no free port range found on 127.0.0.1")
+
+
+def run_batch(folder, name, text, args=(), timeout=240):
+    """Writes scenario `text` to folder/name.yaml, runs it to its end (a
+    virtual-time batch run) on free ports without a dashboard, and returns its
+    summary JSON as a dict; a failing run raises with its output's tail."""
+    path = os.path.join(folder, f"{name}.yaml")
+    with open(path, "w") as f:
+        f.write(text)
+    ids = [n["id"] for n in yaml.safe_load(text)["nodes"]]
+    net_base, loc_base = pick_port_bases(ids)
+    summary = os.path.join(folder, f"{name}.json")
+    r = subprocess.run([BIN, "run", path, "--net-base", str(net_base), "--loc-base",
+                        str(loc_base), "--no-dashboard", "--summary-json", summary, *args],
+                       capture_output=True, text=True, timeout=timeout)
+    if r.returncode != 0:
+        raise AssertionError(f"{name}: exit {r.returncode}\n{r.stdout[-2000:]}\n{r.stderr[-2000:]}")
+    with open(summary) as f:
+        return json.load(f)
 
 
 def scenario_yaml(nodes, extra="", node_phy=None):

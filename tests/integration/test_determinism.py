@@ -6,13 +6,11 @@ receiver m is a function of the seed, m and t), and an observer's samples are
 computed without running a receiver the engine would skip.
 """
 
-import json
 import os
-import subprocess
 import tempfile
 import unittest
 
-from harness import BIN, assert_accounted, pick_port_bases, scenario_yaml
+from harness import assert_accounted, run_batch, scenario_yaml
 
 NODES = {1: (0, 0, 10), 2: (30, 0, 10), 3: (0, 40, 10), 4: (25, 25, 10)}
 NOISE_DB = -93  # about half of the frames arrive, which ones the noise decides
@@ -28,18 +26,7 @@ COMPARED = ("handed_in", "transmitted", "delivered", "lost", "received", "rx_crc
 
 
 def run(d, name, args=()):
-    net_base, loc_base = pick_port_bases(NODES)
-    path = os.path.join(d, "s.yaml")
-    with open(path, "w") as f:
-        f.write(scenario_yaml(NODES, TRAFFIC))
-    summary = os.path.join(d, f"{name}.json")
-    r = subprocess.run([BIN, "run", path, "--net-base", str(net_base), "--loc-base",
-                        str(loc_base), "--no-dashboard", "--summary-json", summary, *args],
-                       capture_output=True, text=True, timeout=240)
-    if r.returncode != 0:
-        raise AssertionError(f"{name}: exit {r.returncode}\n{r.stdout[-2000:]}\n{r.stderr[-2000:]}")
-    with open(summary) as f:
-        return json.load(f)
+    return run_batch(d, name, scenario_yaml(NODES, TRAFFIC), args)
 
 
 class DeterminismTest(unittest.TestCase):

@@ -1,8 +1,9 @@
 """Out-of-tree components: a throwaway component of every kind (PHY, MAC,
-channel stage, position source, mobility model) written in a temporary folder,
+channel stage, sample stage, position source, mobility model) written in a temporary folder,
 configured with find_package(rfsitl) against this build, built as a plugin and
 loaded from RFSITL_PLUGIN_PATH: `rfsitl describe` lists each by name, a
-scenario selects the channel stage by name and its loss shows in the run, and
+scenario selects the channel stage and the sample stage by name and their
+losses show in the run, and
 a plugin built for another rfsitl is refused with a message, not a crash.
 Nothing is written into the source tree."""
 
@@ -19,12 +20,14 @@ from harness import BIN
 BUILD_DIR = os.path.dirname(os.path.dirname(os.path.abspath(BIN)))
 
 COMPONENTS = r'''
-// One throwaway component of each kind. The channel stage is a real one (a
-// fixed extra loss); the others are built-ins under another name, which is
-// all the registration path needs.
+// One throwaway component of each kind. The channel stage (a fixed extra loss
+// on every link) and the sample stage (a gain on a radio's samples) are real
+// ones; the others are built-ins under another name, which is all the
+// registration path needs.
 #include <cmath>
 #include <complex>
 #include <memory>
+#include <span>
 
 #include "rfsitl/config/fields.hpp"
 #include "rfsitl/registry/channel_stage_registry.hpp"
@@ -33,6 +36,7 @@ COMPONENTS = r'''
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/plugin.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
+#include "rfsitl/registry/sample_stage_registry.hpp"
 
 namespace {
 
@@ -57,6 +61,28 @@ class ExtraLoss final : public rfsitl::channel::GainStage {
   double amplitude_;
 };
 
+struct SampleGainSettings {
+  double gain_db = 0.0;
+};
+
+const rfsitl::config::Fields<SampleGainSettings>& gain_fields() {
+  static const auto f = rfsitl::config::Fields<SampleGainSettings>().real(
+      "gain_db", &SampleGainSettings::gain_db, "dB", {-200.0, 200.0}, "gain on every sample");
+  return f;
+}
+
+class SampleGain final : public rfsitl::channel::SampleStage {
+ public:
+  explicit SampleGain(double gain_db)
+      : amplitude_(static_cast<float>(std::pow(10.0, gain_db / 20.0))) {}
+  void apply(std::size_t, rfsitl::SampleTime, std::span<rfsitl::cf32> x) const override {
+    for (rfsitl::cf32& v : x) v *= amplitude_;
+  }
+
+ private:
+  float amplitude_;
+};
+
 template <class Component, class Registry>
 void renamed(Registry& registry, const Component* original, const char* name) {
   Component c = *original;
@@ -70,6 +96,11 @@ void register_components() {
       {fields().info("channel", "plugin_extra_loss", "a fixed extra loss on every link (test)"),
        [](const rfsitl::config::Settings& s, const rfsitl::channel::StageContext&) {
          return std::make_unique<ExtraLoss>(fields().build(s).loss_db);
+       }});
+  rfsitl::channel::sample_stage_registry().add(
+      {gain_fields().info("sample", "plugin_sample_gain", "a gain on a radio's samples (test)"),
+       [](const rfsitl::config::Settings& s, const rfsitl::channel::SampleStageContext&) {
+         return std::make_unique<SampleGain>(gain_fields().build(s).gain_db);
        }});
   renamed(rfsitl::phy::phy_registry(), rfsitl::phy::find_phy("gmsk"), "plugin_gmsk");
   renamed(rfsitl::mac::mac_registry(), rfsitl::mac::find_mac("none"), "plugin_mac");
@@ -109,6 +140,8 @@ channel:
   stages:
     - {type: path_loss}
     - {type: plugin_extra_loss, loss_db: LOSS}
+  tx_stages:
+    - {type: plugin_sample_gain, gain_db: GAIN}
 traffic:
   - {at_s: 0.1, src: 1, dst: 2, size_bytes: 50, repeat: 15, interval_s: 0.05}
 '''
@@ -149,8 +182,8 @@ class OutOfTreePluginTest(unittest.TestCase):
         r = run([BIN, "describe"], env=self.env)
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertNotIn("skipped", r.stderr)
-        for name in ("plugin_extra_loss", "plugin_gmsk", "plugin_mac", "plugin_source",
-                     "plugin_orbit"):
+        for name in ("plugin_extra_loss", "plugin_sample_gain", "plugin_gmsk", "plugin_mac",
+                     "plugin_source", "plugin_orbit"):
             self.assertRegex(r.stdout, rf"\b{name}\b", name)
         r = run([BIN, "describe", "channel", "plugin_extra_loss"], env=self.env)
         self.assertEqual(r.returncode, 0, r.stderr)
@@ -160,21 +193,24 @@ class OutOfTreePluginTest(unittest.TestCase):
                                          if k != "RFSITL_PLUGIN_PATH"})
         self.assertNotIn("plugin_extra_loss", r.stdout)
 
-    def test_a_scenario_selects_the_plugin_stage_by_name(self):
+    def test_a_scenario_selects_the_plugin_stages_by_name(self):
         delivered = {}
-        for loss in (0, 60):
-            path = os.path.join(self.tmp.name, f"loss{loss}.yaml")
+        for loss, gain in ((0, 0), (60, 0), (0, -60)):
+            name = f"loss{loss}_gain{gain}"
+            path = os.path.join(self.tmp.name, f"{name}.yaml")
             with open(path, "w") as f:
-                f.write(SCENARIO.replace("LOSS", str(loss)))
-            out = os.path.join(self.tmp.name, f"loss{loss}.json")
+                f.write(SCENARIO.replace("LOSS", str(loss)).replace("GAIN", str(gain)))
+            out = os.path.join(self.tmp.name, f"{name}.json")
             r = run([BIN, "run", path, "--no-dashboard", "--summary-json", out], env=self.env)
             self.assertEqual(r.returncode, 0, r.stdout[-2000:] + r.stderr[-2000:])
             with open(out) as f:
                 node1 = next(n for n in json.load(f)["nodes"] if n["id"] == 1)
-            delivered[loss] = node1["delivered"]
-        # 40 m decodes with the paper's path loss alone; 60 dB more does not.
-        self.assertGreater(delivered[0], 10)
-        self.assertEqual(delivered[60], 0)
+            delivered[(loss, gain)] = node1["delivered"]
+        # 40 m decodes with the paper's path loss alone; 60 dB more on the link,
+        # or 60 dB less on the transmitter's samples, does not.
+        self.assertGreater(delivered[(0, 0)], 10)
+        self.assertEqual(delivered[(60, 0)], 0)
+        self.assertEqual(delivered[(0, -60)], 0)
 
     def test_a_plugin_for_another_rfsitl_is_refused_with_a_message(self):
         folder = os.path.join(self.tmp.name, "foreign")

@@ -17,8 +17,7 @@ namespace {
 const GeodeticPosition kOrigin{43.0, -78.8, 0.0};
 
 Channel three_in_a_row(double noise_variance) {
-  Channel ch(3, make_paper_budget(1.0), kOrigin,
-             ChannelConfig{noise_variance, false, 7, 1e6, 64, {}, {}});
+  Channel ch(3, make_paper_budget(1.0), kOrigin, ChannelConfig{noise_variance, false, 7, 1e6, 64});
   for (std::size_t i = 0; i < 3; ++i) {
     ch.matrix().set_position(i, local_to_ecef({3.0 * static_cast<double>(i), 0.0, 0.0}, kOrigin));
   }
@@ -80,8 +79,7 @@ TEST(Channel, ReceiversMixedTogetherGetExactlyWhatEachGetsAlone) {
   // grouping), receivers in groups of 1..4: each group's inputs, noise
   // included, equal receive() for each receiver alone, bit for bit.
   constexpr std::size_t kNodes = 30, kB = 250;
-  Channel ch(kNodes, make_paper_budget(2.0), kOrigin,
-             ChannelConfig{1e-6, false, 11, 1e6, kB, {}, {}});
+  Channel ch(kNodes, make_paper_budget(2.0), kOrigin, ChannelConfig{1e-6, false, 11, 1e6, kB});
   for (std::size_t i = 0; i < kNodes; ++i) {
     ch.matrix().set_position(i, local_to_ecef({5.0 * static_cast<double>(i), 0.0, 0.0}, kOrigin));
   }

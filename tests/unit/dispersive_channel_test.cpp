@@ -38,7 +38,7 @@ std::unique_ptr<GainStage> make(const std::string& type, const config::Settings&
 Channel line_of(const std::vector<double>& east_m, std::vector<std::unique_ptr<GainStage>> stages,
                 double fs, std::size_t tick) {
   Channel ch(east_m.size(), std::make_shared<LinkBudget>(0.0, std::move(stages)), kOrigin,
-             ChannelConfig{1e-10, false, 5, fs, tick, {}, {}});
+             ChannelConfig{1e-10, false, 5, fs, tick});
   for (std::size_t i = 0; i < east_m.size(); ++i) {
     ch.matrix().set_position(i, local_to_ecef({east_m[i], 0.0, 0.0}, kOrigin));
   }

@@ -19,6 +19,7 @@
 #include "phy/ofdm/waveform.hpp"
 #include "rfsitl/channel/channel.hpp"
 #include "rfsitl/common/geodesy.hpp"
+#include "rfsitl/registry/sample_stage_registry.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 
 namespace rfsitl::channel {
@@ -159,8 +160,12 @@ std::optional<double> ofdm_cfo_estimate(const FrontEndSettings& rx) {
   const double fs = 20e6;
   const std::size_t tick = 400;
   const GeodeticPosition origin{43.0, -78.8, 0.0};
+  SampleChain receive;
+  receive.push_back(find_sample_stage("impairments")
+                        ->make(front_end_fields().settings_of(rx),
+                               SampleStageContext{SampleSide::kReceive, 2, fs, tick, 3, 0}));
   Channel ch(2, std::make_shared<LinkBudget>(0.0, std::vector<std::unique_ptr<GainStage>>{}),
-             origin, ChannelConfig{1e-4, false, 3, fs, tick, {}, rx});
+             origin, ChannelConfig{1e-4, false, 3, fs, tick}, {}, std::move(receive));
   ch.matrix().set_position(0, local_to_ecef({0.0, 0.0, 0.0}, origin));
   ch.matrix().set_position(1, local_to_ecef({10.0, 0.0, 0.0}, origin));
   const std::vector<std::uint8_t> psdu(100, 0x5A);
@@ -181,6 +186,7 @@ std::optional<double> ofdm_cfo_estimate(const FrontEndSettings& rx) {
   for (std::size_t k = 0; k * tick < air.size(); ++k) {
     const std::vector<Transmission> on{{0, air.data() + k * tick}};
     ch.on_air(static_cast<SampleTime>(k * tick), on);
+    ch.begin_tick(static_cast<SampleTime>(k * tick), true);
     ch.receive(1, 0, y, scratch);
     rxr->push(y);
   }
@@ -204,9 +210,15 @@ TEST(FrontEnd, TheScenarioReadsImpairmentsAndRefusesBadOnesWithTheirLine) {
       "    tx: {dc_offset: 0.01}\n"
       "nodes: [{id: 1, position: {x: 0, y: 0, z: 0}}, {id: 2, position: {x: 5, y: 0, z: 0}}]\n";
   const scenario::Scenario s = scenario::parse_scenario(ok, "imp.yaml");
-  EXPECT_EQ(s.channel.rx_impairments.cfo_hz, 200.0);
-  EXPECT_EQ(s.channel.rx_impairments.iq_imbalance_db, 0.5);
-  EXPECT_EQ(s.channel.tx_impairments.dc_offset, 0.01);
+  // The short form is a leading `impairments` sample stage on each side.
+  ASSERT_EQ(s.channel.rx_stages.size(), 1U);
+  ASSERT_EQ(s.channel.tx_stages.size(), 1U);
+  EXPECT_EQ(s.channel.rx_stages[0].type, "impairments");
+  const FrontEndSettings rx = front_end_fields().build(s.channel.rx_stages[0].settings);
+  const FrontEndSettings tx = front_end_fields().build(s.channel.tx_stages[0].settings);
+  EXPECT_EQ(rx.cfo_hz, 200.0);
+  EXPECT_EQ(rx.iq_imbalance_db, 0.5);
+  EXPECT_EQ(tx.dc_offset, 0.01);
   const std::string bad =
       "time: {mode: virtual, duration_s: 0.1}\n"
       "channel:\n  impairments:\n    rx: {cfo_hz: 2e9}\n"

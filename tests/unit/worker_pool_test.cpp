@@ -76,5 +76,43 @@ TEST(WorkerPool, ConsecutiveRunsSeeEachOthersResults) {
   EXPECT_EQ(mismatches.load(), 0U);
 }
 
+TEST(WorkerPool, ForEachRunsEveryItemExactlyOnceOnAnyNumberOfWorkers) {
+  WorkerPool pool(4);
+  for (const std::size_t workers : {1U, 2U, 4U, 9U}) {
+    for (const std::size_t count : {0U, 1U, 5U, 1000U}) {
+      std::vector<std::atomic<int>> runs(count);
+      pool.for_each(count, workers, [&](std::size_t j) { runs[j].fetch_add(1); });
+      for (std::size_t j = 0; j < count; ++j) {
+        ASSERT_EQ(runs[j].load(), 1) << workers << " workers, item " << j << " of " << count;
+      }
+    }
+  }
+}
+
+TEST(WorkerPool, ForEachLetsTheOtherWorkersTakeTheItemsOfOneThatIsHeldUp) {
+  // Item 0 holds its worker until every other item has run: with shares
+  // fixed in advance (item j on worker j % 2) this would never finish; with
+  // each worker taking the next free item, the other worker runs them all.
+  WorkerPool pool(2);
+  constexpr std::size_t kItems = 64;
+  std::atomic<std::size_t> done{0};
+  std::atomic<bool> gave_up{false};
+  pool.for_each(kItems, 2, [&](std::size_t j) {
+    if (j == 0) {
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+      while (done.load() < kItems - 1) {
+        if (std::chrono::steady_clock::now() > deadline) {
+          gave_up = true;
+          break;
+        }
+        std::this_thread::yield();
+      }
+    }
+    done.fetch_add(1);
+  });
+  EXPECT_FALSE(gave_up.load());
+  EXPECT_EQ(done.load(), kItems);
+}
+
 }  // namespace
 }  // namespace rfsitl::engine

@@ -1,10 +1,12 @@
 #pragma once
 /// The interference channel as the engine calls it. For each receiver and tick:
-/// the sum of the active transmitters' samples through their links (the
-/// large-scale coefficients, ramped by the time-varying stages on their grid),
-/// plus the receiver's thermal noise, times the front end's fixed gain that puts
-/// the noise floor at unit power:
-///   y_m[t] = g (sum_{n != m} c_nm(t) x_n[t] + eta_m[t]),  g = 1 / sigma.
+/// the sum of the active transmitters' samples (each through the transmit
+/// sample stages, T) through their links (the large-scale coefficients, ramped
+/// by the time-varying stages on their grid), plus the receiver's thermal noise,
+/// times the front end's fixed gain that puts the noise floor at unit power,
+/// then through the receive sample stages R (sample_stage.hpp):
+///   y_m[t] = R_m(g (sum_{n != m} c_nm(t) T_n(x_n)[t] + eta_m[t])),  g = 1 / sigma.
+/// The noise is R's first stage (noise_stage.hpp).
 /// With dispersive stages (delay, multipath) a link is an impulse response over
 /// lags (ChannelMatrix::response), each lag's tap ramped the same way:
 ///   y_m[t] = g (sum_{n != m} sum_k h_nmk(t) x_n[t - lag_k] + eta_m[t]),
@@ -16,14 +18,12 @@
 /// well above its ADC's quantization.
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <span>
 #include <vector>
 
 #include "rfsitl/channel/channel_matrix.hpp"
-#include "rfsitl/channel/front_end.hpp"
 #include "rfsitl/channel/link_budget.hpp"
-#include "rfsitl/channel/noise_source.hpp"
+#include "rfsitl/channel/sample_stage.hpp"
 #include "rfsitl/common/types.hpp"
 
 namespace rfsitl::channel {
@@ -34,8 +34,6 @@ struct ChannelConfig {
   std::uint64_t seed = 1;         ///< of the noise
   double sample_rate_hz = 1e6;
   std::size_t tick_samples = 250;
-  FrontEndSettings tx_impairments;  ///< every transmitter's front end
-  FrontEndSettings rx_impairments;  ///< every receiver's
 };
 
 /// One transmitter on the air this tick: its node and its tick's samples
@@ -47,9 +45,12 @@ struct Transmission {
 
 class Channel {
  public:
-  /// Precondition: budget != nullptr; config.tick_samples > 0.
+  /// Precondition: budget != nullptr; config.tick_samples > 0. `transmit`
+  /// and `receive` are the sample stages of every transmitter and receiver,
+  /// in order (the noise goes before `receive`'s).
   Channel(std::size_t nodes, std::shared_ptr<const LinkBudget> budget,
-          const GeodeticPosition& origin, const ChannelConfig& config);
+          const GeodeticPosition& origin, const ChannelConfig& config, SampleChain transmit = {},
+          SampleChain receive = {});
 
   /// The links, kept in step with positions (engine thread).
   ChannelMatrix& matrix() { return matrix_; }
@@ -57,6 +58,10 @@ class Channel {
 
   /// The front end's fixed gain g = 1 / sigma (that of a -120 dB floor without noise).
   double front_end_gain() const { return gain_; }
+
+  /// False when a receive stage makes skipping receivers that hear only noise
+  /// inexact (SampleStage::keeps_skipping_exact): the engine then runs them all.
+  bool skipping_exact() const { return skipping_exact_; }
 
   /// What one receiver's receive() works in; one per receiver, never shared
   /// between threads.
@@ -75,11 +80,12 @@ class Channel {
   /// Engine thread, once per tick, every tick, before hears_signal() and
   /// receive(): the transmitters on the air in the tick that starts at
   /// tick_start. `active` must stay valid until the tick's last receive().
-  /// Transmitters' impairments are applied here (to copies).
+  /// The transmit stages are applied here (to copies).
   void on_air(SampleTime tick_start, std::span<const Transmission> active);
 
-  /// Engine thread, once per tick before receive(): draws the shared noise
-  /// (when there is one and some receiver will run).
+  /// Engine thread, once per tick, every tick, after on_air() and before
+  /// receive(): advances the receive stages (the shared noise is drawn when
+  /// some receiver will run).
   void begin_tick(SampleTime tick_start, bool receivers_run);
 
   /// Whether some other node's signal reaches receiver m in this tick (a
@@ -108,7 +114,7 @@ class Channel {
                         Scratch& scratch) const;
 
  private:
-  /// Receiver m's noise and front end, after its mix.
+  /// Receiver m's receive stages (its noise first), after its mix.
   void finish(std::size_t m, std::size_t first, std::span<cf32> y) const;
   void mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
   void gather_lags(std::size_t m, std::size_t first, bool with_taps, Scratch& s) const;
@@ -124,10 +130,10 @@ class Channel {
   ChannelMatrix matrix_;
   ChannelConfig config_;
   double gain_;
-  SampleTime grid_samples_;                        // the fading grid; 0 without time-varying stages
-  std::vector<std::optional<NoiseSource>> noise_;  // per receiver, unless shared
-  std::optional<NoiseSource> shared_noise_;
-  std::vector<cf32> shared_noise_buf_;
+  SampleTime grid_samples_;  // the fading grid; 0 without time-varying stages
+  SampleChain transmit_;
+  SampleChain receive_;  // the noise (if any) first
+  bool skipping_exact_ = true;
 
   // This tick (on_air()).
   SampleTime tick_start_ = 0;
@@ -142,11 +148,9 @@ class Channel {
   std::vector<std::size_t> audible_;
   std::vector<const cf32*> transmitting_;  // keep_history's, by node
 
-  // Front ends (empty when ideal) and the transmitters' impaired samples.
-  std::vector<FrontEnd> tx_front_;
-  std::vector<FrontEnd> rx_front_;
-  std::vector<std::vector<cf32>> impaired_;
-  std::vector<Transmission> impaired_active_;
+  // The transmitters' samples through the transmit stages (when there are any).
+  std::vector<std::vector<cf32>> staged_;
+  std::vector<Transmission> staged_active_;
 };
 
 }  // namespace rfsitl::channel

@@ -1,6 +1,6 @@
 #pragma once
-/// A radio front end's imperfections, the scenario's `channel.impairments`
-/// (`tx:` and `rx:`, the same settings each): carrier frequency offset, phase
+/// A radio front end's imperfections, the `impairments` sample stage
+/// (`channel.impairments.tx` and `.rx` are its short form): carrier frequency offset, phase
 /// noise, I/Q imbalance and DC offset, applied to one node's samples as a chain
 /// of pure per-sample steps.
 ///
@@ -44,8 +44,8 @@ struct FrontEndSettings {
 
 const config::Fields<FrontEndSettings>& front_end_fields();
 
-/// The self-description (kind "radio", name "impairments"), as `rfsitl describe`
-/// lists it and the scenario reader checks `channel.impairments.tx` and `.rx`.
+/// The self-description of the `impairments` sample stage (kind "sample"),
+/// which wraps one FrontEnd per node (channel/sample_stages/impairments).
 const config::ComponentInfo& front_end_info();
 
 /// True when the settings change nothing (every node's front end is perfect).

@@ -44,6 +44,9 @@ struct EngineStatus {
   double mobility_wall_s = 0.0;              ///< wall seconds spent evaluating mobility models
   std::uint64_t exchanged_bytes = 0;  ///< distributed run: bytes this rank sent to the others
   double exchange_wall_s = 0.0;       ///< distributed run: wall seconds in the exchanges
+  /// Threads the parallel phases use now: chosen while running from what they
+  /// cost on this machine (1 or all of the pool's), or the --threads given.
+  std::size_t workers = 1;
 };
 
 /// A rank of a distributed run, as its figures were last gathered.

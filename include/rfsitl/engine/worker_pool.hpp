@@ -25,6 +25,15 @@ class WorkerPool {
   /// have finished. Not reentrant. The task must not throw.
   void run(const std::function<void(std::size_t)>& task);
 
+  /// Runs item(j) for j = 0..count-1 on `workers` of the pool's threads (the
+  /// caller's among them; 1: the caller alone, no thread woken; clamped to
+  /// size()). Each takes the next index when it is done with its last, so a
+  /// worker the OS holds up (another process, a hypervisor's steal) delays
+  /// only the item it holds, not a share fixed in advance. Returns when all
+  /// have run. Not reentrant; item must not throw.
+  void for_each(std::size_t count, std::size_t workers,
+                const std::function<void(std::size_t)>& item);
+
  private:
   void worker_loop(std::size_t index);
 
@@ -33,6 +42,7 @@ class WorkerPool {
   std::atomic<std::uint64_t> generation_{0};
   std::atomic<std::size_t> remaining_{0};
   std::atomic<bool> stop_{false};
+  std::atomic<std::size_t> next_item_{0};  // for_each's next index
 };
 
 }  // namespace rfsitl::engine

@@ -9,7 +9,6 @@
 #include <utility>
 #include <vector>
 
-#include "rfsitl/channel/front_end.hpp"
 #include "rfsitl/channel/radio.hpp"
 #include "rfsitl/common/position.hpp"
 #include "rfsitl/common/types.hpp"
@@ -137,10 +136,12 @@ struct ChannelConfig {
   double noise_variance = 1e-12;
   bool shared_noise = false;  ///< the paper's one noise source for all receivers
   GeodeticPosition origin{43.0008, -78.7890, 0.0};  ///< where local x/y/z = 0
-  /// Every node's front-end imperfections (channel.impairments.tx / .rx);
-  /// ideal by default.
-  channel::FrontEndSettings tx_impairments;
-  channel::FrontEndSettings rx_impairments;
+  /// Effects on each radio's own samples, in order (channel/sample_stage.hpp):
+  /// every transmitter's before mixing (channel.tx_stages), every receiver's
+  /// after its noise (channel.rx_stages). `channel.impairments.tx` / `.rx` are
+  /// read as a leading `impairments` stage here. Empty by default.
+  std::vector<StageChoice> tx_stages;
+  std::vector<StageChoice> rx_stages;
 };
 
 enum class TimeMode { kRealTime, kVirtual };
