@@ -178,10 +178,13 @@ def check(root):
                     continue
                 with open(path, encoding="utf-8", errors="replace") as f:
                     text = f.read()
-                found = [(m, "include/rfsitl/" + m.group(1)) for m in INCLUDE_RE.finditer(text)]
-                found += [(m, "src/" + m.group(1)) for m in INTERNAL_INCLUDE_RE.finditer(text)
+                # (match, the include as written, the header's path in the tree)
+                found = [(m, "rfsitl/" + m.group(1), "include/rfsitl/" + m.group(1))
+                         for m in INCLUDE_RE.finditer(text)]
+                found += [(m, m.group(1), "src/" + m.group(1))
+                          for m in INTERNAL_INCLUDE_RE.finditer(text)
                           if os.path.isfile(os.path.join(root, "src", m.group(1)))]
-                for match, header in found:
+                for match, written, header in found:
                     target = module_of(header)
                     if target is None or target == mod:
                         continue
@@ -192,7 +195,7 @@ def check(root):
                         errors.append(f"{rel}:{line}: module {mod} has no library in CMake")
                     elif target not in closure(declared, mod):
                         errors.append(
-                            f"{rel}:{line}: includes {match.group(1)} (module {target}), "
+                            f"{rel}:{line}: includes {written} (module {target}), "
                             f"but module {mod} does not link it; declare the dependency in "
                             f"CMake or move the code")
     cycle = find_cycle(included)

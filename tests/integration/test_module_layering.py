@@ -74,6 +74,17 @@ class ModuleLayeringTest(unittest.TestCase):
                       "rfsitl/engine/frame_ledger.hpp (module engine), but module phy/gmsk does "
                       "not link it", r.stdout)
 
+    def test_a_phy_reaching_into_another_phys_internals_is_caught(self):
+        # A PHY's own headers live in src/phy/<name>/ and are included from
+        # elsewhere as "phy/<name>/x.hpp": checked like the public ones.
+        with tempfile.TemporaryDirectory() as d:
+            self.copy_tree(d)
+            line = self.inject(d, "src/phy/gmsk/gmsk_component.cpp", "phy/ofdm/rates.hpp")
+            r = run_check(d)
+        self.assertEqual(r.returncode, 1, r.stdout)
+        self.assertIn(f"src/phy/gmsk/gmsk_component.cpp:{line}: includes phy/ofdm/rates.hpp "
+                      "(module phy/ofdm), but module phy/gmsk does not link it", r.stdout)
+
     def test_libraries_linked_in_a_ring_are_caught(self):
         with tempfile.TemporaryDirectory() as d:
             self.copy_tree(d)
