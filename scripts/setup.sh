@@ -19,6 +19,8 @@ PACKAGES=(
   iproute2 iputils-ping babeld
   # bench/ip_throughput.py: TCP and UDP goodput between two IP nodes
   iperf3
+  # bench/thread_tuning.sh: a competing load beside the engine
+  stress-ng
   # the SoapySDR module (driver=rfsitl, src/soapy/) and its test: headers, SoapySDRUtil, python
   libsoapysdr-dev soapysdr-tools python3-soapysdr
   # distributed runs (mpirun -n K rfsitl run ...): Open MPI, its headers and launcher

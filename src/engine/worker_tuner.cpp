@@ -13,6 +13,12 @@ std::int64_t steady_ns() {
       .count();
 }
 
+/// The arm of probe epoch `step`: one, all, all, one, one, all, all, one.
+bool pool_arm(std::size_t step) {
+  const std::size_t k = step % 4;
+  return k == 1 || k == 2;
+}
+
 }  // namespace
 
 WorkerTuner::WorkerTuner(std::size_t pool, bool fixed, Clock clock)
@@ -20,47 +26,59 @@ WorkerTuner::WorkerTuner(std::size_t pool, bool fixed, Clock clock)
       tuned_(!fixed && pool_ > 1),
       clock_(clock ? std::move(clock) : Clock(steady_ns)),
       current_(pool_) {
-  if (tuned_) start_probe();
+  if (tuned_) start_probe(clock_());
 }
 
-void WorkerTuner::start_probe() {
+void WorkerTuner::start_probe(std::int64_t now) {
   step_ = 0;
   probe_ns_[0] = probe_ns_[1] = 0.0;
   probe_work_[0] = probe_work_[1] = 0.0;
-  current_ = 1;
-  ticks_ = 0;
+  current_ = pool_arm(0) ? pool_ : 1;
   epoch_work_ = 0.0;
-  epoch_start_ns_ = clock_();
+  epoch_start_ns_ = now;
 }
 
 void WorkerTuner::tick_done(double work) {
   if (!tuned_) return;
   epoch_work_ += work;
-  if (++ticks_ < kEpochTicks) return;
+  if (++ticks_ < kClockTicks) return;
   ticks_ = 0;
-  end_epoch();
+  const std::int64_t now = clock_();
+  if (now - epoch_start_ns_ >= kEpochNs) end_epoch(now);
 }
 
-void WorkerTuner::end_epoch() {
+void WorkerTuner::end_epoch(std::int64_t now) {
   if (!probing()) {
-    if (--epochs_left_ == 0) start_probe();
+    epoch_start_ns_ = now;
+    if (--epochs_left_ == 0) start_probe(now);
     return;
   }
-  const std::int64_t now = clock_();
   const std::size_t arm = current_ == 1 ? 0 : 1;
   probe_ns_[arm] += static_cast<double>(now - epoch_start_ns_);
   probe_work_[arm] += epoch_work_;
   epoch_work_ = 0.0;
   epoch_start_ns_ = now;
   ++step_;
+  if (step_ == kProbeEpochs / 2 && clear_cut()) step_ = kProbeEpochs;
   if (probing()) {
-    current_ = step_ == 1 || step_ == 2 ? pool_ : 1;
+    current_ = pool_arm(step_) ? pool_ : 1;
     return;
   }
-  // Cost per unit of work of each arm; the pool must win by kMinGain.
-  const double one = probe_ns_[0] / std::max(probe_work_[0], 1e-9);
-  const double all = probe_ns_[1] / std::max(probe_work_[1], 1e-9);
-  const std::size_t chosen = all < one * (1.0 - kMinGain) ? pool_ : 1;
+  decide();
+}
+
+bool WorkerTuner::clear_cut() const {
+  const double ratio = cost(1) / cost(0);
+  return ratio < 1.0 - kClearCut || ratio > 1.0 + kClearCut;
+}
+
+double WorkerTuner::cost(std::size_t arm) const {
+  return probe_ns_[arm] / std::max(probe_work_[arm], 1e-9);
+}
+
+void WorkerTuner::decide() {
+  // The pool must win by kMinGain.
+  const std::size_t chosen = cost(1) < cost(0) * (1.0 - kMinGain) ? pool_ : 1;
   exploit_epochs_ = chosen == last_choice_ ? std::min(2 * exploit_epochs_, kMaxExploitEpochs)
                                            : kFirstExploitEpochs;
   last_choice_ = chosen;

@@ -4,18 +4,21 @@
 /// worker and meeting it at the barrier pays only when a phase has enough
 /// work, and on a shared or virtual machine (another process, a hypervisor's
 /// steal) a second thread can make a tick slower, not faster. So the tuner
-/// measures both: the engine thread alone (1) and the whole pool, in short
-/// epochs of ticks in the order one, all, all, one (so that a trend in the
-/// load weighs on both alike), each epoch's wall time over the work its ticks
-/// had. The cheaper wins; the pool must be at least kMinGain cheaper to be
-/// chosen, since a second busy thread costs the machine even when the engine
-/// breaks even. The choice is then used for a stretch of epochs that doubles
-/// (up to kMaxExploitEpochs) while the same choice keeps winning and starts
-/// short again when it changes, so a probe costs a few percent of the run at
-/// most and a changed load is seen within seconds.
+/// measures both: the engine thread alone (one) and the whole pool (all), in
+/// epochs of kEpochNs of wall time each (long against the scheduler's time
+/// slices, which would otherwise decide an epoch alone), in the order one,
+/// all, all, one, twice (so that a trend in the load weighs on both alike;
+/// once when the first four differ by more than kClearCut), each arm's wall
+/// time over the work its ticks had. The pool must be at
+/// least kMinGain cheaper to be chosen, since a second busy thread costs the
+/// machine even when the engine breaks even. The choice then holds for a
+/// stretch of epochs that doubles (up to kMaxExploitEpochs, 10 s) while the
+/// same choice keeps winning and starts short again when it changes: the
+/// probes cost about one percent of a long run, and a changed load is seen
+/// within seconds.
 ///
-/// Only the engine thread calls it. The clock is read at epoch boundaries
-/// only (every kEpochTicks ticks), never per tick.
+/// Only the engine thread calls it. The clock is read every kClockTicks
+/// ticks, never per tick.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -24,10 +27,12 @@ namespace rfsitl::engine {
 
 class WorkerTuner {
  public:
-  static constexpr std::size_t kEpochTicks = 128;
-  static constexpr std::size_t kFirstExploitEpochs = 16;
+  static constexpr std::int64_t kEpochNs = 10'000'000;
+  static constexpr std::size_t kClockTicks = 16;
+  static constexpr std::size_t kFirstExploitEpochs = 32;
   static constexpr std::size_t kMaxExploitEpochs = 1024;
   static constexpr double kMinGain = 0.05;
+  static constexpr double kClearCut = 0.15;
 
   /// Monotonic time in nanoseconds (tests give a fake one).
   using Clock = std::function<std::int64_t()>;
@@ -41,7 +46,7 @@ class WorkerTuner {
   std::size_t workers() const { return current_; }
 
   /// True while it measures (the choice may change at every epoch).
-  bool probing() const { return step_ < kProbeOrder; }
+  bool probing() const { return step_ < kProbeEpochs; }
 
   /// After each tick: the work it had, in any unit that grows with what the
   /// parallel phases did (the engine: receivers run and transmitters on air).
@@ -49,17 +54,21 @@ class WorkerTuner {
   void tick_done(double work);
 
  private:
-  static constexpr std::size_t kProbeOrder = 4;  // epochs of a probe: one, all, all, one
-  void start_probe();
-  void end_epoch();
+  static constexpr std::size_t kProbeEpochs = 8;  // one, all, all, one, twice
+  void start_probe(std::int64_t now);
+  void end_epoch(std::int64_t now);
+  void decide();
+  /// Cost per unit of work of arm 0 (one) or 1 (all) in this probe so far.
+  double cost(std::size_t arm) const;
+  bool clear_cut() const;
 
   std::size_t pool_;
   bool tuned_;
   Clock clock_;
   std::size_t current_;
-  std::size_t step_ = kProbeOrder;  // probe epoch 0..3, or kProbeOrder while exploiting
-  std::size_t ticks_ = 0;           // into the current epoch
-  std::size_t epochs_left_ = 0;     // of the exploit stretch
+  std::size_t step_ = kProbeEpochs;  // probe epoch 0..7, or kProbeEpochs while exploiting
+  std::size_t ticks_ = 0;            // since the clock was last read
+  std::size_t epochs_left_ = 0;      // of the exploit stretch
   std::size_t exploit_epochs_ = kFirstExploitEpochs;
   std::size_t last_choice_ = 0;  // the previous probe's verdict (0: none yet)
   std::int64_t epoch_start_ns_ = 0;
