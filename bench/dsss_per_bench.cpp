@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "rfsitl/phy/dsss/codes.hpp"
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
+#include "phy/dsss/codes.hpp"
+#include "phy/dsss/dsss_transceiver.hpp"
 
 namespace {
 

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "bench_signals.hpp"
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
+#include "phy/dsss/dsss_transceiver.hpp"
 
 namespace {
 

@@ -26,8 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
-#include "rfsitl/phy/gmsk_liquid/gmsk_transceiver.hpp"
+#include "phy/gmsk/fast_gmsk_transceiver.hpp"
+#include "phy/gmsk_liquid/gmsk_transceiver.hpp"
 
 namespace {
 

@@ -36,7 +36,7 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/gfsk/gfsk_transceiver.hpp"
+#include "phy/gfsk/gfsk_transceiver.hpp"
 
 namespace {
 

@@ -20,8 +20,8 @@
 #include <random>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "phy/ofdm/bit_pipeline.hpp"
+#include "phy/ofdm/soft_decoding.hpp"
 
 namespace {
 

@@ -14,9 +14,9 @@
 #include <span>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
-#include "rfsitl/phy/ofdm/rates.hpp"
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "phy/ofdm/bit_pipeline.hpp"
+#include "phy/ofdm/rates.hpp"
+#include "phy/ofdm/soft_decoding.hpp"
 
 namespace {
 

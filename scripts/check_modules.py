@@ -2,7 +2,8 @@
 """Checks the module layering: every `#include "rfsitl/..."` crosses only into a
 module that the including module depends on (its CMake target_link_libraries,
 directly or through them), and no two modules include each other, directly or
-in a ring.
+in a ring. A module's internal header included from another folder as
+"<module>/.../x.hpp" (rooted at src/, e.g. "phy/gmsk/gmsk_pulse.hpp") counts the same.
 
 A module is a folder: include/rfsitl/<m>/ with src/<m>/ (one per library), a
 component folder src/<m>/<name>/ with its own CMakeLists.txt (a PHY such as
@@ -17,6 +18,9 @@ import re
 import sys
 
 INCLUDE_RE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"rfsitl/([^"]+)"', re.M)
+# A module's internal header included from another folder, rooted at src/
+# ("phy/gmsk/gmsk_pulse.hpp", through rfsitl_internal_headers).
+INTERNAL_INCLUDE_RE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"([a-z_]+/[^"]+)"', re.M)
 CALL_RE = re.compile(
     r"\b(add_library|add_executable|target_link_libraries|rfsitl_component)\s*\(([^)]*)\)", re.S)
 COMPONENT_TARGET_RE = re.compile(r"\bTARGET\s+(\S+)")
@@ -174,8 +178,14 @@ def check(root):
                     continue
                 with open(path, encoding="utf-8", errors="replace") as f:
                     text = f.read()
-                for match in INCLUDE_RE.finditer(text):
-                    target = module_of("include/rfsitl/" + match.group(1))
+                # (match, the include as written, the header's path in the tree)
+                found = [(m, "rfsitl/" + m.group(1), "include/rfsitl/" + m.group(1))
+                         for m in INCLUDE_RE.finditer(text)]
+                found += [(m, m.group(1), "src/" + m.group(1))
+                          for m in INTERNAL_INCLUDE_RE.finditer(text)
+                          if os.path.isfile(os.path.join(root, "src", m.group(1)))]
+                for match, written, header in found:
+                    target = module_of(header)
                     if target is None or target == mod:
                         continue
                     line = text.count("\n", 0, match.start()) + 1
@@ -185,7 +195,7 @@ def check(root):
                         errors.append(f"{rel}:{line}: module {mod} has no library in CMake")
                     elif target not in closure(declared, mod):
                         errors.append(
-                            f"{rel}:{line}: includes rfsitl/{match.group(1)} (module {target}), "
+                            f"{rel}:{line}: includes {written} (module {target}), "
                             f"but module {mod} does not link it; declare the dependency in "
                             f"CMake or move the code")
     cycle = find_cycle(included)

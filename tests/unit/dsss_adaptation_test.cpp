@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/dsss/code_adaptation.hpp"
-#include "rfsitl/phy/dsss/codes.hpp"
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
+#include "phy/dsss/code_adaptation.hpp"
+#include "phy/dsss/codes.hpp"
+#include "phy/dsss/dsss_transceiver.hpp"
 
 namespace rfsitl::phy {
 namespace {

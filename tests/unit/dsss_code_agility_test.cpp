@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
-#include "rfsitl/phy/dsss/frame_format.hpp"
+#include "phy/dsss/dsss_transceiver.hpp"
+#include "phy/dsss/frame_format.hpp"
 
 namespace rfsitl::phy {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/codes.hpp"
+#include "phy/dsss/codes.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/frame_format.hpp"
+#include "phy/dsss/frame_format.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/dsss/crc.hpp"
-#include "rfsitl/phy/dsss/differential_psk.hpp"
+#include "phy/dsss/crc.hpp"
+#include "phy/dsss/differential_psk.hpp"
 
 namespace rfsitl::phy::dsss {
 namespace {

@@ -1,6 +1,6 @@
 // Receiver behaviour beyond the basic decode: chip timing tracking, carrier
 // offset, back-to-back frames, frames from the first sample, the listening set.
-#include "rfsitl/phy/dsss/receiver.hpp"
+#include "phy/dsss/receiver.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,9 +11,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "rfsitl/phy/dsss/codes.hpp"
-#include "rfsitl/phy/dsss/differential_psk.hpp"
-#include "rfsitl/phy/dsss/spreader.hpp"
+#include "phy/dsss/codes.hpp"
+#include "phy/dsss/differential_psk.hpp"
+#include "phy/dsss/spreader.hpp"
 
 namespace rfsitl::phy::dsss {
 namespace {

@@ -5,10 +5,10 @@
 #include <random>
 #include <vector>
 
-#include "rfsitl/phy/dsss/code_correlator.hpp"
-#include "rfsitl/phy/dsss/codes.hpp"
-#include "rfsitl/phy/dsss/differential_psk.hpp"
-#include "rfsitl/phy/dsss/spreader.hpp"
+#include "phy/dsss/code_correlator.hpp"
+#include "phy/dsss/codes.hpp"
+#include "phy/dsss/differential_psk.hpp"
+#include "phy/dsss/spreader.hpp"
 
 namespace rfsitl::phy::dsss {
 namespace {

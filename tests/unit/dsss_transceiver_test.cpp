@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
+#include "phy/dsss/dsss_transceiver.hpp"
 
 #include <gtest/gtest.h>
 

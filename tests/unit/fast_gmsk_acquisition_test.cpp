@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fast_gmsk_test_support.hpp"
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
+#include "phy/gmsk/fast_gmsk_transceiver.hpp"
 
 namespace rfsitl::phy {
 namespace {

@@ -5,8 +5,8 @@
 #include <string_view>
 #include <vector>
 
-#include "rfsitl/phy/gmsk/crc.hpp"
-#include "rfsitl/phy/gmsk/frame_format.hpp"
+#include "phy/gmsk/crc.hpp"
+#include "phy/gmsk/frame_format.hpp"
 
 namespace rfsitl::phy::gmsk {
 namespace {

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
+#include "phy/gmsk/fast_gmsk_transceiver.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 
 namespace rfsitl::phy {

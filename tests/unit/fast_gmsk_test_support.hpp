@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
+#include "phy/gmsk/fast_gmsk_transceiver.hpp"
 
 namespace rfsitl::phy::fast_gmsk_test {
 

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
+#include "phy/gmsk/fast_gmsk_transceiver.hpp"
 #include "fast_gmsk_test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "phy/ofdm/rates.hpp"
+#include "phy/ofdm/receiver.hpp"
+#include "phy/ofdm/waveform.hpp"
 #include "rfsitl/channel/channel.hpp"
 #include "rfsitl/common/geodesy.hpp"
-#include "rfsitl/phy/ofdm/rates.hpp"
-#include "rfsitl/phy/ofdm/receiver.hpp"
-#include "rfsitl/phy/ofdm/waveform.hpp"
 #include "rfsitl/registry/sample_stage_registry.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 

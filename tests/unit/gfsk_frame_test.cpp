@@ -1,17 +1,13 @@
-#include "rfsitl/phy/gfsk/gfsk_frame.hpp"
+#include "phy/gfsk/gfsk_frame.hpp"
 
 #include <gtest/gtest.h>
 
 #include <bit>
-#include <cmath>
-#include <complex>
 #include <cstdint>
-#include <numbers>
 #include <vector>
 
+#include "phy/gmsk/frame_format.hpp"
 #include "rfsitl/common/crc.hpp"
-#include "rfsitl/phy/gfsk/gfsk_modulator.hpp"
-#include "rfsitl/phy/gmsk/frame_format.hpp"
 
 namespace rfsitl::phy::gfsk {
 namespace {
@@ -71,56 +67,6 @@ TEST(GfskFrame, SyncPatternIsFarFromEveryWholeSymbolShiftOfItself) {
       EXPECT_GE(std::popcount(late ^ ((kSyncPattern >> s) & known)), 13) << "late " << s;
     }
   }
-}
-
-TEST(GfskModulator, SpanFollowsTheGaussianWidth) {
-  EXPECT_EQ(gaussian_span_symbols(0.0F), 1U);
-  EXPECT_EQ(gaussian_span_symbols(1.0F), 2U);
-  EXPECT_EQ(gaussian_span_symbols(0.5F), 3U);
-  EXPECT_EQ(gaussian_span_symbols(0.3F), 4U);
-  EXPECT_EQ(gaussian_span_symbols(0.2F), 5U);
-}
-
-TEST(GfskModulator, UnitAmplitudeAndToneOfRunsAndPhaseTurnPerSymbol) {
-  for (const float bt : {0.0F, 0.5F, 0.2F}) {
-    const unsigned k = 8;
-    const float h = 0.7F;
-    GfskModulator mod(k, h, bt);
-    std::vector<std::int8_t> sym(40, 1);
-    for (std::size_t i = 20; i < 40; ++i) sym[i] = -1;
-    std::vector<cf32> x(mod.frame_samples(sym.size()));
-    ASSERT_EQ(mod.start(sym), x.size());
-    ASSERT_EQ(mod.generate(x), x.size());
-    EXPECT_EQ(mod.samples_left(), 0U);
-    for (const cf32& v : x) EXPECT_NEAR(std::abs(v), 1.0F, 1e-5F);
-    // Deep inside each run the frequency is +-fd = +-h / (2k) cycles per sample
-    // (to 0.05% at BT = 0.2, where the truncated pulse is renormalised).
-    const double fd = 2.0 * std::numbers::pi * h / (2.0 * k);
-    for (std::size_t n = 10 * k; n < 14 * k; ++n) {
-      EXPECT_NEAR(std::arg(x[n + 1] * std::conj(x[n])), fd, 1e-3) << "bt=" << bt << " n=" << n;
-    }
-    for (std::size_t n = 30 * k; n < 34 * k; ++n) {
-      EXPECT_NEAR(std::arg(x[n + 1] * std::conj(x[n])), -fd, 1e-3) << "bt=" << bt << " n=" << n;
-    }
-  }
-}
-
-TEST(GfskModulator, StreamingInPiecesGivesTheSameSamples) {
-  GfskModulator a(5, 1.3F, 0.3F);
-  GfskModulator b(5, 1.3F, 0.3F);
-  std::vector<std::int8_t> sym{1, -1, -1, 1, 1, 1, -1, 1, -1, -1, 1};
-  std::vector<cf32> whole(a.frame_samples(sym.size()));
-  a.start(sym);
-  a.generate(whole);
-  b.start(sym);
-  std::vector<cf32> pieces;
-  std::vector<cf32> chunk(7, cf32{9.0F, 9.0F});
-  while (b.samples_left() > 0) {
-    const std::size_t n = b.generate(chunk);
-    pieces.insert(pieces.end(), chunk.begin(), chunk.begin() + static_cast<std::ptrdiff_t>(n));
-  }
-  ASSERT_EQ(pieces.size(), whole.size());
-  for (std::size_t i = 0; i < whole.size(); ++i) EXPECT_EQ(pieces[i], whole[i]);
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "fast_gmsk_test_support.hpp"
-#include "rfsitl/phy/gfsk/gfsk_transceiver.hpp"
+#include "phy/gfsk/gfsk_transceiver.hpp"
 
 namespace rfsitl::phy {
 namespace {

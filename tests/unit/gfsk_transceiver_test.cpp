@@ -1,4 +1,4 @@
-#include "rfsitl/phy/gfsk/gfsk_transceiver.hpp"
+#include "phy/gfsk/gfsk_transceiver.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/gmsk_liquid/gmsk_transceiver.hpp"
+#include "phy/gmsk_liquid/gmsk_transceiver.hpp"
 
 #include <gtest/gtest.h>
 

@@ -43,9 +43,9 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
-#include "rfsitl/phy/ofdm/rates.hpp"
-#include "rfsitl/phy/ofdm/waveform.hpp"
+#include "phy/ofdm/bit_pipeline.hpp"
+#include "phy/ofdm/rates.hpp"
+#include "phy/ofdm/waveform.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "phy/ofdm/soft_decoding.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
-#include "rfsitl/phy/ofdm/rates.hpp"
+#include "phy/ofdm/bit_pipeline.hpp"
+#include "phy/ofdm/rates.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

@@ -14,10 +14,10 @@
 #include <random>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/ltf_search.hpp"
-#include "rfsitl/phy/ofdm/rates.hpp"
-#include "rfsitl/phy/ofdm/sts_detector.hpp"
-#include "rfsitl/phy/ofdm/waveform.hpp"
+#include "phy/ofdm/ltf_search.hpp"
+#include "phy/ofdm/rates.hpp"
+#include "phy/ofdm/sts_detector.hpp"
+#include "phy/ofdm/waveform.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

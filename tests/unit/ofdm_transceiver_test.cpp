@@ -1,6 +1,6 @@
 // The OFDM transceiver end to end: frames built by its TX path and received by
 // another instance's RX path, through noise, carrier offset and multipath.
-#include "rfsitl/phy/ofdm/ofdm_transceiver.hpp"
+#include "phy/ofdm/ofdm_transceiver.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/mac_frame.hpp"
-#include "rfsitl/phy/ofdm/rates.hpp"
+#include "phy/ofdm/mac_frame.hpp"
+#include "phy/ofdm/rates.hpp"
 
 namespace rfsitl::phy {
 namespace {

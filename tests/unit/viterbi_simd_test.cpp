@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "phy/ofdm/bit_pipeline.hpp"
+#include "phy/ofdm/soft_decoding.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/code_adaptation.hpp"
+#include "code_adaptation.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
 #include "code_searcher.hpp"
 #include "frame_demodulator.hpp"
 #include "front_end.hpp"
-#include "rfsitl/phy/dsss/receiver.hpp"
+#include "receiver.hpp"
 
 namespace rfsitl::phy::dsss::detail {
 

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/code_correlator.hpp"
+#include "code_correlator.hpp"
 
 #include <cstring>
 

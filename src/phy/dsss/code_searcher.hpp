@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
+#include "code_correlator.hpp"
 #include "front_end.hpp"
-#include "rfsitl/phy/dsss/code_correlator.hpp"
 #include "sliding_window.hpp"
 
 namespace rfsitl::phy::dsss::detail {

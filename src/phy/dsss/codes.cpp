@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/codes.hpp"
+#include "codes.hpp"
 
 #include <array>
 #include <charconv>

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/differential_psk.hpp"
+#include "differential_psk.hpp"
 
 #include <array>
 #include <cmath>

@@ -1,11 +1,11 @@
 // Registration of the direct-sequence spread-spectrum transceiver as PHY "dsss".
 #include <stdexcept>
 
+#include "code_adaptation.hpp"
+#include "codes.hpp"
+#include "dsss_transceiver.hpp"
+#include "frame_format.hpp"
 #include "rfsitl/config/fields.hpp"
-#include "rfsitl/phy/dsss/code_adaptation.hpp"
-#include "rfsitl/phy/dsss/codes.hpp"
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
-#include "rfsitl/phy/dsss/frame_format.hpp"
 #include "rfsitl/phy/phy_component.hpp"
 
 namespace rfsitl::phy {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/dsss_transceiver.hpp"
+#include "dsss_transceiver.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,12 +8,12 @@
 #include <stdexcept>
 #include <vector>
 
-#include "rfsitl/phy/dsss/code_adaptation.hpp"
-#include "rfsitl/phy/dsss/codes.hpp"
-#include "rfsitl/phy/dsss/differential_psk.hpp"
-#include "rfsitl/phy/dsss/frame_format.hpp"
-#include "rfsitl/phy/dsss/receiver.hpp"
-#include "rfsitl/phy/dsss/spreader.hpp"
+#include "code_adaptation.hpp"
+#include "codes.hpp"
+#include "differential_psk.hpp"
+#include "frame_format.hpp"
+#include "receiver.hpp"
+#include "spreader.hpp"
 
 namespace rfsitl::phy {
 namespace {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rfsitl/phy/dsss/differential_psk.hpp"
+#include "differential_psk.hpp"
 
 namespace rfsitl::phy::dsss::detail {
 namespace {

@@ -7,9 +7,9 @@
 #include <span>
 #include <vector>
 
+#include "frame_format.hpp"
+#include "receiver.hpp"
 #include "rfsitl/common/types.hpp"
-#include "rfsitl/phy/dsss/frame_format.hpp"
-#include "rfsitl/phy/dsss/receiver.hpp"
 
 namespace rfsitl::phy::dsss::detail {
 

@@ -1,10 +1,10 @@
-#include "rfsitl/phy/dsss/frame_format.hpp"
+#include "frame_format.hpp"
 
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/dsss/crc.hpp"
+#include "crc.hpp"
 
 namespace rfsitl::phy::dsss {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/receiver.hpp"
+#include "receiver.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/dsss/spreader.hpp"
+#include "spreader.hpp"
 
 #include <algorithm>
 

@@ -1,9 +1,9 @@
 // Registration of the 2-GFSK transceiver as PHY "gfsk".
 #include <string>
 
+#include "gfsk_frame.hpp"
+#include "gfsk_transceiver.hpp"
 #include "rfsitl/config/fields.hpp"
-#include "rfsitl/phy/gfsk/gfsk_frame.hpp"
-#include "rfsitl/phy/gfsk/gfsk_transceiver.hpp"
 #include "rfsitl/phy/phy_component.hpp"
 
 namespace rfsitl::phy {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/gfsk/gfsk_frame.hpp"
+#include "gfsk_frame.hpp"
 
 #include "rfsitl/common/crc.hpp"
 

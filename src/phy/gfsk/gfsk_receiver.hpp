@@ -29,9 +29,9 @@
 #include <span>
 #include <vector>
 
-#include "rfsitl/phy/gfsk/gfsk_frame.hpp"
-#include "rfsitl/phy/gfsk/gfsk_transceiver.hpp"
-#include "rfsitl/phy/gmsk/frame_format.hpp"
+#include "gfsk_frame.hpp"
+#include "gfsk_transceiver.hpp"
+#include "phy/gmsk/frame_format.hpp"
 #include "rfsitl/phy/transceiver.hpp"
 #include "symbol_metrics.hpp"
 

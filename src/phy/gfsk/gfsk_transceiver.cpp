@@ -1,14 +1,14 @@
-#include "rfsitl/phy/gfsk/gfsk_transceiver.hpp"
+#include "gfsk_transceiver.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <vector>
 
+#include "gfsk_frame.hpp"
 #include "gfsk_receiver.hpp"
-#include "rfsitl/phy/gfsk/gfsk_frame.hpp"
-#include "rfsitl/phy/gfsk/gfsk_modulator.hpp"
+#include "phy/gmsk/cpm_modulator.hpp"
+#include "phy/gmsk/cpm_transceiver.hpp"
+#include "phy/gmsk/gmsk_pulse.hpp"
 
 namespace rfsitl::phy {
 namespace {
@@ -51,18 +51,28 @@ const GfskSettings& validated(const GfskSettings& s) {
   return s;
 }
 
-class GfskTransceiver final : public Transceiver {
+/// The Gaussian pulse truncated to gaussian_span_symbols(BT), or the
+/// rectangular one at BT = 0; the phase computed in double (any h).
+gmsk::CpmModulator make_modulator(const GfskSettings& s) {
+  const unsigned k = s.samples_per_symbol;
+  const float bt = s.bandwidth_time;
+  return gmsk::CpmModulator(
+      bt > 0.0F
+          ? gmsk::gaussian_cpm_pulse(gmsk::make_gmsk_pulse(k, bt, gmsk::gaussian_span_symbols(bt)),
+                                     s.modulation_index)
+          : gmsk::rectangular_cpm_pulse(k, s.modulation_index),
+      gmsk::CpmArithmetic::kDouble);
+}
+
+class GfskTransceiver final : public gmsk::CpmTransceiver<gfsk::GfskFrameReceiver> {
  public:
   explicit GfskTransceiver(const GfskSettings& s)
-      : settings_(validated(s)),
-        modulator_(s.samples_per_symbol, s.modulation_index, s.bandwidth_time),
-        symbols_(gfsk::frame_bits(s.preamble_bytes, s.max_payload_bytes)),
-        receiver_(s) {}
-
-  std::size_t max_payload() const override { return settings_.max_payload_bytes; }
+      : CpmTransceiver("GFSK", s.max_payload_bytes, make_modulator(validated(s)),
+                       gfsk::frame_bits(s.preamble_bytes, s.max_payload_bytes), s),
+        settings_(s) {}
 
   std::size_t frame_samples(std::size_t payload_bytes) const override {
-    return modulator_.frame_samples(gfsk::frame_bits(settings_.preamble_bytes, payload_bytes));
+    return modulator().frame_samples(gfsk::frame_bits(settings_.preamble_bytes, payload_bytes));
   }
 
   double sensitivity_snr_db() const override {
@@ -71,32 +81,11 @@ class GfskTransceiver final : public Transceiver {
     return at_k8 - 10.0 * std::log10(settings_.samples_per_symbol / 8.0);
   }
 
-  bool tx_busy() const override { return modulator_.samples_left() > 0; }
-
   std::size_t start_frame(const FrameTag& tag, std::span<const std::uint8_t> payload) override {
-    if (payload.size() > settings_.max_payload_bytes) {
-      throw std::invalid_argument("GFSK payload of " + std::to_string(payload.size()) +
-                                  " bytes exceeds max_payload_bytes " +
-                                  std::to_string(settings_.max_payload_bytes));
-    }
-    const std::size_t n = gfsk::build_frame_symbols(settings_.preamble_bytes, settings_.whitening,
-                                                    tag, payload, symbols_);
-    return modulator_.start(std::span(symbols_).first(n));
+    check_payload(payload.size());
+    return send(gfsk::build_frame_symbols(settings_.preamble_bytes, settings_.whitening, tag,
+                                          payload, symbols()));
   }
-
-  std::size_t transmit(std::span<cf32> out) override {
-    const std::size_t n = modulator_.generate(out);
-    std::fill(out.begin() + static_cast<std::ptrdiff_t>(n), out.end(), cf32{});
-    return n;
-  }
-
-  void receive(std::span<const cf32> in, RxHandler& handler) override {
-    receiver_.push(in, handler);
-  }
-
-  void reset_receiver() override { receiver_.reset(); }
-
-  bool rx_busy() const override { return receiver_.busy(); }
 
   // The last CRC symbol's metric window closes within about half a symbol of
   // the frame's last sample (earlier with a Gaussian pulse, whose tail follows
@@ -105,9 +94,6 @@ class GfskTransceiver final : public Transceiver {
 
  private:
   GfskSettings settings_;
-  gfsk::GfskModulator modulator_;
-  std::vector<std::int8_t> symbols_;
-  gfsk::GfskFrameReceiver receiver_;
 };
 
 }  // namespace

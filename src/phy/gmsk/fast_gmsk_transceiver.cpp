@@ -1,15 +1,14 @@
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
+#include "fast_gmsk_transceiver.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <vector>
 
+#include "cpm_modulator.hpp"
+#include "cpm_transceiver.hpp"
+#include "frame_format.hpp"
 #include "frame_receiver.hpp"
-#include "rfsitl/phy/gmsk/cpm_modulator.hpp"
-#include "rfsitl/phy/gmsk/frame_format.hpp"
-#include "rfsitl/phy/gmsk/gmsk_pulse.hpp"
+#include "gmsk_pulse.hpp"
 
 namespace rfsitl::phy {
 namespace {
@@ -38,52 +37,28 @@ const FastGmskSettings& validated(const FastGmskSettings& s) {
   return s;
 }
 
-class FastGmskTransceiver final : public Transceiver {
+/// Precondition: `s` validated (the pulse's tables are sized by it).
+gmsk::GmskPulse pulse_of(const FastGmskSettings& s) {
+  return gmsk::make_gmsk_pulse(s.samples_per_symbol, s.bandwidth_time, s.filter_span_symbols);
+}
+
+class FastGmskTransceiver final : public gmsk::CpmTransceiver<gmsk::FrameReceiver> {
  public:
   explicit FastGmskTransceiver(const FastGmskSettings& s)
-      : settings_(validated(s)),
-        pulse_(
-            gmsk::make_gmsk_pulse(s.samples_per_symbol, s.bandwidth_time, s.filter_span_symbols)),
-        modulator_(pulse_),
-        symbols_(gmsk::frame_symbol_count(s.max_payload_bytes)),
-        receiver_(pulse_, s.max_payload_bytes) {}
-
-  std::size_t max_payload() const override { return settings_.max_payload_bytes; }
+      : FastGmskTransceiver(s, pulse_of(validated(s))) {}
 
   std::size_t frame_samples(std::size_t payload_bytes) const override {
-    return modulator_.frame_samples(gmsk::frame_symbol_count(payload_bytes));
+    return modulator().frame_samples(gmsk::frame_symbol_count(payload_bytes));
   }
 
   double sensitivity_snr_db() const override {
     return kSensitivityK2Db - 10.0 * std::log10(settings_.samples_per_symbol / 2.0);
   }
 
-  bool tx_busy() const override { return modulator_.samples_left() > 0; }
-
   std::size_t start_frame(const FrameTag& tag, std::span<const std::uint8_t> payload) override {
-    // A precondition, but a cheap one to check, and the frame buffer is sized by it.
-    if (payload.size() > settings_.max_payload_bytes) {
-      throw std::invalid_argument("fast GMSK payload of " + std::to_string(payload.size()) +
-                                  " bytes exceeds max_payload_bytes " +
-                                  std::to_string(settings_.max_payload_bytes));
-    }
-    const std::size_t n = gmsk::build_frame_symbols(tag, payload, symbols_);
-    return modulator_.start(std::span(symbols_).first(n));
+    check_payload(payload.size());
+    return send(gmsk::build_frame_symbols(tag, payload, symbols()));
   }
-
-  std::size_t transmit(std::span<cf32> out) override {
-    const std::size_t n = modulator_.generate(out);
-    std::fill(out.begin() + static_cast<std::ptrdiff_t>(n), out.end(), cf32{});
-    return n;
-  }
-
-  void receive(std::span<const cf32> in, RxHandler& handler) override {
-    receiver_.push(in, handler);
-  }
-
-  void reset_receiver() override { receiver_.reset(); }
-
-  bool rx_busy() const override { return receiver_.busy(); }
 
   // The decode comes k samples before the frame's end: the last CRC symbol's
   // matched-filter window closes then (the tail symbols follow it). Decodes
@@ -91,11 +66,15 @@ class FastGmskTransceiver final : public Transceiver {
   std::size_t rx_latency_samples() const override { return 2 * settings_.samples_per_symbol; }
 
  private:
+  // h = 1/2: the finished symbols as exact quarter turns, the rest in float.
+  FastGmskTransceiver(const FastGmskSettings& s, const gmsk::GmskPulse& pulse)
+      : CpmTransceiver("fast GMSK", s.max_payload_bytes,
+                       gmsk::CpmModulator(gmsk::gaussian_cpm_pulse(pulse, 0.5),
+                                          gmsk::CpmArithmetic::kFloatQuarterTurns),
+                       gmsk::frame_symbol_count(s.max_payload_bytes), pulse, s.max_payload_bytes),
+        settings_(s) {}
+
   FastGmskSettings settings_;
-  gmsk::GmskPulse pulse_;
-  gmsk::CpmModulator modulator_;
-  std::vector<std::int8_t> symbols_;
-  gmsk::FrameReceiver receiver_;
 };
 
 }  // namespace

@@ -1,6 +1,6 @@
-#include "rfsitl/phy/gmsk/frame_format.hpp"
+#include "frame_format.hpp"
 
-#include "rfsitl/phy/gmsk/crc.hpp"
+#include "crc.hpp"
 
 namespace rfsitl::phy::gmsk {
 namespace {

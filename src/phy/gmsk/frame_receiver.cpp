@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rfsitl/phy/gmsk/crc.hpp"
+#include "crc.hpp"
 
 namespace rfsitl::phy::gmsk {
 

@@ -36,9 +36,9 @@
 #include <vector>
 
 #include "coherent_detector.hpp"
+#include "frame_format.hpp"
+#include "gmsk_pulse.hpp"
 #include "preamble_detector.hpp"
-#include "rfsitl/phy/gmsk/frame_format.hpp"
-#include "rfsitl/phy/gmsk/gmsk_pulse.hpp"
 #include "rfsitl/phy/transceiver.hpp"
 #include "sample_ring.hpp"
 #include "sync_correlator.hpp"

@@ -1,7 +1,7 @@
 // Registration of rfsitl's own GMSK transceiver as PHY "gmsk".
+#include "fast_gmsk_transceiver.hpp"
+#include "frame_format.hpp"
 #include "rfsitl/config/fields.hpp"
-#include "rfsitl/phy/gmsk/fast_gmsk_transceiver.hpp"
-#include "rfsitl/phy/gmsk/frame_format.hpp"
 #include "rfsitl/phy/phy_component.hpp"
 
 namespace rfsitl::phy {

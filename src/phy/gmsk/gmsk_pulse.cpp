@@ -1,4 +1,4 @@
-#include "rfsitl/phy/gmsk/gmsk_pulse.hpp"
+#include "gmsk_pulse.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -23,6 +23,12 @@ double gaussian_phase_pulse(double t, double bt) {
   const double a = 2.0 * std::numbers::pi * bt / std::sqrt(std::numbers::ln2);
   const auto f = [a](double x) { return x * gaussian_q(a * x) - std_normal_pdf(a * x) / a; };
   return 0.5 * (f(t - 0.5) - f(t + 0.5) + 1.0);
+}
+
+unsigned gaussian_span_symbols(double bt) {
+  if (bt <= 0.0) return 1;
+  const double sigma = std::sqrt(std::numbers::ln2) / (2.0 * std::numbers::pi * bt);
+  return static_cast<unsigned>(std::ceil(1.0 + 6.0 * sigma));
 }
 
 GmskPulse make_gmsk_pulse(unsigned k, double bt, unsigned span) {

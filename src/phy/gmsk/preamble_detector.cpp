@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "rfsitl/phy/gmsk/frame_format.hpp"
+#include "frame_format.hpp"
 
 namespace rfsitl::phy::gmsk {
 namespace {

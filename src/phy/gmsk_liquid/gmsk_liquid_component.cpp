@@ -1,6 +1,6 @@
 // Registration of liquid-dsp's GMSK framing as PHY "gmsk-liquid".
+#include "gmsk_transceiver.hpp"
 #include "rfsitl/config/fields.hpp"
-#include "rfsitl/phy/gmsk_liquid/gmsk_transceiver.hpp"
 #include "rfsitl/phy/phy_component.hpp"
 
 namespace rfsitl::phy {

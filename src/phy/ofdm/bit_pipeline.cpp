@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
+#include "bit_pipeline.hpp"
 
 #include <array>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/fcs.hpp"
+#include "fcs.hpp"
 
 #include "rfsitl/common/crc.hpp"
 

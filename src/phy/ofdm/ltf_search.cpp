@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/ltf_search.hpp"
+#include "ltf_search.hpp"
 
 #include <cmath>
 #include <complex>

@@ -1,6 +1,6 @@
-#include "rfsitl/phy/ofdm/mac_frame.hpp"
+#include "mac_frame.hpp"
 
-#include "rfsitl/phy/ofdm/fcs.hpp"
+#include "fcs.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

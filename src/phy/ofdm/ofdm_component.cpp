@@ -1,6 +1,6 @@
 // Registration of the IEEE 802.11a/g OFDM transceiver as PHY "ofdm".
+#include "ofdm_transceiver.hpp"
 #include "rfsitl/config/fields.hpp"
-#include "rfsitl/phy/ofdm/ofdm_transceiver.hpp"
 #include "rfsitl/phy/phy_component.hpp"
 
 namespace rfsitl::phy {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/ofdm_transceiver.hpp"
+#include "ofdm_transceiver.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "rfsitl/phy/ofdm/mac_frame.hpp"
-#include "rfsitl/phy/ofdm/receiver.hpp"
-#include "rfsitl/phy/ofdm/waveform.hpp"
+#include "mac_frame.hpp"
+#include "receiver.hpp"
+#include "waveform.hpp"
 
 namespace rfsitl::phy {
 namespace {

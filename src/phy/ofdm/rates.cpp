@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/rates.hpp"
+#include "rates.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/receiver.hpp"
+#include "receiver.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,12 +8,12 @@
 
 #include <liquid/liquid.h>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
-#include "rfsitl/phy/ofdm/fcs.hpp"
-#include "rfsitl/phy/ofdm/ltf_search.hpp"
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
-#include "rfsitl/phy/ofdm/sts_detector.hpp"
-#include "rfsitl/phy/ofdm/waveform.hpp"
+#include "bit_pipeline.hpp"
+#include "fcs.hpp"
+#include "ltf_search.hpp"
+#include "soft_decoding.hpp"
+#include "sts_detector.hpp"
+#include "waveform.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "soft_decoding.hpp"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
+#include "bit_pipeline.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/sts_detector.hpp"
+#include "sts_detector.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -9,7 +9,7 @@
 #include <new>
 #include <stdexcept>
 
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "soft_decoding.hpp"
 
 // fec.h has no C++ linkage guard.
 extern "C" {

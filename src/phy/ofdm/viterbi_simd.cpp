@@ -14,7 +14,7 @@
 #include <emmintrin.h>
 #endif
 
-#include "rfsitl/phy/ofdm/soft_decoding.hpp"
+#include "soft_decoding.hpp"
 #include "viterbi_kernels.hpp"
 
 namespace rfsitl::phy::ofdm {

@@ -1,4 +1,4 @@
-#include "rfsitl/phy/ofdm/waveform.hpp"
+#include "waveform.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 
 #include <liquid/liquid.h>
 
-#include "rfsitl/phy/ofdm/bit_pipeline.hpp"
+#include "bit_pipeline.hpp"
 
 namespace rfsitl::phy::ofdm {
 namespace {

@@ -42,4 +42,9 @@ struct GmskPulse {
 /// Preconditions: k >= 1, 0 < bt, span >= 1.
 GmskPulse make_gmsk_pulse(unsigned samples_per_symbol, double bandwidth_time, unsigned span);
 
+/// A span L for a BT that keeps all of the Gaussian that matters: ceil(1 + 6
+/// sigma) symbols, sigma = sqrt(ln 2) / (2 pi BT) the Gaussian's width in
+/// symbols (3 symbols at BT = 0.5, 5 at 0.2); 1 for BT <= 0 (no filter).
+unsigned gaussian_span_symbols(double bandwidth_time);
+
 }  // namespace rfsitl::phy::gmsk

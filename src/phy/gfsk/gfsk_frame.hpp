@@ -6,7 +6,7 @@
 ///   sync       32     kSyncWord
 ///   header     80     the fast GMSK frame's header octets (src, dst, serial
 ///                     u32 LE, payload length u16 LE, CRC-16 of those 8), see
-///                     rfsitl/phy/gmsk/frame_format.hpp
+///                     src/phy/gmsk/frame_format.hpp
 ///   payload    8 n    the n payload octets
 ///   CRC        16     CRC-16 (rfsitl/common/crc.hpp) of the payload, high octet first
 ///
@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <span>
 
-#include "rfsitl/phy/gmsk/frame_format.hpp"
+#include "phy/gmsk/frame_format.hpp"
 #include "rfsitl/phy/transceiver.hpp"
 
 namespace rfsitl::phy::gfsk {

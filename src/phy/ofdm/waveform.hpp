@@ -8,8 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "rates.hpp"
 #include "rfsitl/common/types.hpp"
-#include "rfsitl/phy/ofdm/rates.hpp"
 
 namespace rfsitl::phy::ofdm {
 

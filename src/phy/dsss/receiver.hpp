@@ -49,9 +49,9 @@
 #include <span>
 #include <vector>
 
+#include "codes.hpp"
+#include "frame_format.hpp"
 #include "rfsitl/common/types.hpp"
-#include "rfsitl/phy/dsss/codes.hpp"
-#include "rfsitl/phy/dsss/frame_format.hpp"
 
 namespace rfsitl::phy::dsss {
 

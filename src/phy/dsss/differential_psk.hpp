@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
+#include "frame_format.hpp"
 #include "rfsitl/common/types.hpp"
-#include "rfsitl/phy/dsss/frame_format.hpp"
 
 namespace rfsitl::phy::dsss {
 

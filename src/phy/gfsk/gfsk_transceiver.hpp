@@ -11,6 +11,10 @@
 /// SiK's 128 kbit/s column), h = 2, BT = 0.5, 8 preamble bytes, whitening on,
 /// 255-byte payloads (the Si4432 packet length register is one byte).
 ///
+/// Modulation: the CPM modulator GMSK uses (src/phy/gmsk/cpm_modulator.hpp) at
+/// index h, with the Gaussian pulse truncated to gaussian_span_symbols(BT) or
+/// the rectangular one at BT = 0, its phase computed in double; unit amplitude.
+///
 /// Frame (gfsk_frame.hpp), bits sent most significant first, bit 1 as the
 /// upper tone (+fd): preamble (0xAA bytes), sync word 0x2DD4E395 (SiK's 0x2DD4
 /// extended by 16 bits chosen for distance >= 13 from every whole-symbol

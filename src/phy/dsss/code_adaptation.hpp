@@ -50,8 +50,8 @@
 #include <span>
 #include <vector>
 
+#include "codes.hpp"
 #include "rfsitl/common/types.hpp"
-#include "rfsitl/phy/dsss/codes.hpp"
 
 namespace rfsitl::phy::dsss {
 
