@@ -6,6 +6,7 @@
 #include <optional>
 #include <variant>
 
+#include "rfsitl/common/build_version.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
 
@@ -170,6 +171,7 @@ void print_partial_summary(engine::Engine& e, const RunRanks& ranks) {
 
 nlohmann::json summary_json(const RunSummaryParts& p) {
   nlohmann::json j = monitor::stats_with_links_json(p.scenario, p.engine, p.sources.status_fn());
+  j["rfsitl_version"] = build_version();
   if (p.external) j["external"] = *p.external;
   if (p.pcap) j["pcap"] = p.pcap->summary();
   if (p.sigmf) j["sigmf"] = p.sigmf->summary();
