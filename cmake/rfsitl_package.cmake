@@ -35,6 +35,12 @@ set(CPACK_STRIP_FILES ON)
 # built against it wants this very version (shlibs "=").
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY "=")
+# A package with a public shared library lets dpkg run ldconfig once, by
+# trigger (Debian policy 8.1.1; lintian: lacks-ldconfig-trigger). CPack's own
+# postinst/postrm still call ldconfig too, which is redundant but harmless.
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+set(CPACK_DEBIAN_PROGRAM_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/cmake/debian/triggers)
+set(CPACK_DEBIAN_GR_PACKAGE_CONTROL_EXTRA ${PROJECT_SOURCE_DIR}/cmake/debian/triggers)
 
 set(CPACK_DEBIAN_PROGRAM_PACKAGE_NAME rfsitl)
 set(CPACK_COMPONENT_PROGRAM_DESCRIPTION "software-in-the-loop RF channel emulator
@@ -55,9 +61,10 @@ tree, loaded by rfsitl from its plugin folder or RFSITL_PLUGIN_PATH.")
 set(RFSITL_PACKAGES rfsitl librfsitl-dev)
 set(CPACK_COMPONENTS_ALL program dev)
 if(TARGET rfsitl_soapy)
-  set(RFSITL_SOAPY_PACKAGE soapysdr${SOAPY_SDR_ABI_VERSION}-module-rfsitl)
+  get_property(RFSITL_SOAPY_ABI GLOBAL PROPERTY RFSITL_SOAPY_ABI_VERSION)
+  set(RFSITL_SOAPY_PACKAGE soapysdr${RFSITL_SOAPY_ABI}-module-rfsitl)
   set(CPACK_DEBIAN_SOAPY_PACKAGE_NAME ${RFSITL_SOAPY_PACKAGE})
-  set(CPACK_DEBIAN_SOAPY_PACKAGE_PROVIDES soapysdr${SOAPY_SDR_ABI_VERSION}-module)
+  set(CPACK_DEBIAN_SOAPY_PACKAGE_PROVIDES soapysdr${RFSITL_SOAPY_ABI}-module)
   set(CPACK_COMPONENT_SOAPY_DESCRIPTION "rfsitl emulator nodes for SoapySDR (module)
 The SoapySDR module driver=rfsitl: any SoapySDR application (GQRX, SDR++,
 GNU Radio's soapy blocks, python3-soapysdr) becomes a node of a running rfsitl

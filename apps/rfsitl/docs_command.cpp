@@ -32,6 +32,12 @@ std::vector<const CLI::App*> visible_commands(const CLI::App& root) {
   return out;
 }
 
+/// A flag: CLI11 gives every option that takes a value a type name (UINT,
+/// TEXT, or the one the declaration set), and flags none.
+bool takes_no_value(const CLI::Option& o) {
+  return o.get_type_name().empty();
+}
+
 /// `text` safe in roff: backslashes escaped, hyphens as minus signs (what a
 /// user types), a leading dot or quote made literal.
 std::string roff(const std::string& text) {
@@ -56,7 +62,7 @@ std::string options_roff(const CLI::App& app) {
   for (const CLI::Option* o : app.get_options()) {
     std::string tag = "\\fB" + roff(o->get_name(false, true)) + "\\fR";
     if (o->get_positional()) tag = "\\fI" + roff(o->get_name()) + "\\fR";
-    if (!o->get_positional() && o->get_type_size_max() > 0 && !o->get_type_name().empty()) {
+    if (!o->get_positional() && !takes_no_value(*o)) {
       tag += " \\fI" + roff(o->get_type_name()) + "\\fR";
     }
     std::string text = o->get_description();
@@ -168,7 +174,7 @@ std::string completion_case(const CLI::App& c) {
     for (const auto& n : o->get_snames()) names.push_back("-" + n);
     for (const auto& n : o->get_lnames()) names.push_back("--" + n);
     for (const auto& n : names) words += (words.empty() ? "" : " ") + n;
-    if (o->get_type_size_max() == 0 || names.empty()) continue;
+    if (takes_no_value(*o) || names.empty()) continue;
     std::string joined;
     for (const auto& n : names) joined += (joined.empty() ? "" : "|") + n;
     const std::string type = o->get_type_name();
