@@ -262,8 +262,8 @@ std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e,
     prometheus_family(o, name, type, help);
   };
   const engine::EngineStatus st = e.status();
-  family("rfsitl_build_info", "gauge", "Always 1; its label is this program's version.");
-  o << "rfsitl_build_info{version=\"" << build_version() << "\"} 1\n";
+  family("rfsitl_build_info", "gauge", "This program's version (value always 1).");
+  o << "rfsitl_build_info{version=\"" << prometheus_label_value(build_version()) << "\"} 1\n";
   family("rfsitl_virtual_seconds", "gauge", "Virtual time emulated so far.");
   o << "rfsitl_virtual_seconds " << prometheus_number(st.virtual_s) << '\n';
   family("rfsitl_wall_seconds", "gauge", "Wall-clock time since the run started.");
