@@ -22,7 +22,8 @@ INCLUDE_RE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"rfsitl/([^"]+)"', re.M)
 # ("phy/gmsk/gmsk_pulse.hpp", through rfsitl_internal_headers).
 INTERNAL_INCLUDE_RE = re.compile(r'^[ \t]*#[ \t]*include[ \t]+"([a-z_]+/[^"]+)"', re.M)
 CALL_RE = re.compile(
-    r"\b(add_library|add_executable|target_link_libraries|rfsitl_component)\s*\(([^)]*)\)", re.S)
+    r"\b(add_library|add_executable|target_link_libraries|rfsitl_component|SOAPY_SDR_MODULE_UTIL)"
+    r"\s*\(([^)]*)\)", re.S)
 COMPONENT_TARGET_RE = re.compile(r"\bTARGET\s+(\S+)")
 
 
@@ -66,6 +67,7 @@ def read_cmake_graph(root):
     links = {}
     compiled_in = {}
     component_targets = set()  # every rfsitl_component()'s library
+    aliases = {}
     for top in ("src", "apps"):
         for dirpath, _, files in os.walk(os.path.join(root, top)):
             if "CMakeLists.txt" not in files:
@@ -80,6 +82,16 @@ def read_cmake_graph(root):
                 name = words[0]
                 if kind == "rfsitl_component":
                     component_targets.update(COMPONENT_TARGET_RE.findall(args))
+                    continue
+                if kind == "SOAPY_SDR_MODULE_UTIL":
+                    # SoapySDR's macro: add_library(TARGET ...) linking LIBRARIES.
+                    name = COMPONENT_TARGET_RE.findall(args)[0]
+                    libraries = args.split("LIBRARIES", 1)[1].split() if "LIBRARIES" in args else []
+                    kind, words = "add_library", [name]
+                    links.setdefault(name, set()).update(
+                        w for w in libraries if w.startswith("rfsitl_"))
+                if kind == "add_library" and len(words) == 3 and words[1] == "ALIAS":
+                    aliases[name] = words[2]  # rfsitl::rfsitl -> rfsitl_library
                     continue
                 if kind in ("add_library", "add_executable"):
                     if not name.startswith("rfsitl"):
@@ -99,7 +111,9 @@ def read_cmake_graph(root):
                 else:
                     deps = links.setdefault(name, set())
                     for w in words[1:]:
-                        if w.startswith("rfsitl_") or w == "${RFSITL_COMPONENT_LIBRARIES}":
+                        w = aliases.get(w, w)
+                        if w.startswith("rfsitl_") or w in (
+                                "${RFSITL_COMPONENT_LIBRARIES}", "${RFSITL_LIBRARY_PARTS}"):
                             deps.add(w)
     graph = {m: set() for m in target_module.values()}
     for m, others in compiled_in.items():
@@ -111,6 +125,10 @@ def read_cmake_graph(root):
         for d in deps:
             if d == "${RFSITL_COMPONENT_LIBRARIES}":
                 graph[m] |= {target_module[t] for t in component_targets if t in target_module}
+            elif d == "${RFSITL_LIBRARY_PARTS}":
+                # librfsitl: every library of src/ linked whole.
+                graph[m] |= {o for t, o in target_module.items()
+                             if t != target and o != "apps" and o != "soapy"}
             elif d in target_module:
                 graph[m].add(target_module[d])
         # A component folder nested in its module's folder (a mobility model

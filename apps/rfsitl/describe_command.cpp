@@ -18,18 +18,11 @@
 #include "rfsitl/registry/sample_stage_registry.hpp"
 
 namespace rfsitl::app {
-namespace {
-
-struct DescribeOptions {
-  std::string kind;
-  std::string name;
-  bool markdown = false;
-};
 
 // Every registered component, grouped by kind in data-path order: where nodes
 // are (live sources, mobility models), the transceivers, their MACs, the channel's stages
 // (on links, then on samples), and the radio whose link budget they complete.
-std::vector<const config::ComponentInfo*> all_components() {
+std::vector<const config::ComponentInfo*> described_components() {
   std::vector<const config::ComponentInfo*> out;
   for (const position::PositionSourceComponent& s : position::position_source_components())
     out.push_back(&s.info);
@@ -45,9 +38,17 @@ std::vector<const config::ComponentInfo*> all_components() {
   return out;
 }
 
+namespace {
+
+struct DescribeOptions {
+  std::string kind;
+  std::string name;
+  bool markdown = false;
+};
+
 std::vector<std::string> kinds() {
   std::vector<std::string> out;
-  for (const auto* c : all_components()) {
+  for (const auto* c : described_components()) {
     if (out.empty() || out.back() != c->kind) out.push_back(c->kind);
   }
   return out;
@@ -61,7 +62,7 @@ std::string join(const std::vector<std::string>& v) {
 
 std::string markdown() {
   std::string out;
-  for (const auto* c : all_components()) {
+  for (const auto* c : described_components()) {
     out += "#### " + c->kind + " `" + c->name + "`\n\n" + c->doc + ".\n\n" +
            config::settings_table(*c) + "\n";
   }
@@ -75,7 +76,7 @@ int describe(const DescribeOptions& o) {
   }
   std::vector<const config::ComponentInfo*> matches;
   std::vector<std::string> names;
-  for (const auto* c : all_components()) {
+  for (const auto* c : described_components()) {
     if (!o.kind.empty() && c->kind != o.kind) continue;
     names.push_back(c->name);
     if (o.name.empty() || c->name == o.name) matches.push_back(c);

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "commands.hpp"
+#include "rfsitl/common/build_version.hpp"
 #include "rfsitl/registry/plugin_loader.hpp"
-#include "rfsitl/version.hpp"
 
 int main(int argc, char** argv) {
   // spdlog's default logger is created here, before any thread starts. It is a
@@ -23,13 +23,15 @@ int main(int argc, char** argv) {
   for (const auto& p : rfsitl::registry::load_plugins(rfsitl::app::plugin_folders())) {
     if (!p.loaded) std::cerr << "rfsitl: plugin " << p.path << " skipped: " << p.error << "\n";
   }
-  app.set_version_flag("--version", "rfsitl " RFSITL_VERSION);
+  app.set_version_flag("--version", std::string("rfsitl ") + rfsitl::build_version());
   auto run = rfsitl::app::add_run_command(app);
   auto ping = rfsitl::app::add_ping_command(app);
   auto links = rfsitl::app::add_links_command(app);
   auto node = rfsitl::app::add_node_command(app);
   auto describe = rfsitl::app::add_describe_command(app);
   auto mavlink_send = rfsitl::app::add_mavlink_send_command(app);
+  auto man = rfsitl::app::add_man_command(app);
+  auto completion = rfsitl::app::add_completion_command(app);
   // CLI11 would call an unknown command a missing one ("A subcommand is required").
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* c) { return c->check_name(argv[1]); }).empty()) {
@@ -59,5 +61,7 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("node")) return node();
   if (app.got_subcommand("describe")) return describe();
   if (app.got_subcommand("mavlink-send")) return mavlink_send();
+  if (app.got_subcommand("man")) return man();
+  if (app.got_subcommand("completion")) return completion();
   return 2;
 }

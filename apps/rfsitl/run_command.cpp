@@ -465,8 +465,16 @@ std::function<int()> add_run_command(CLI::App& parent) {
   CLI::App* cmd =
       parent.add_subcommand("run", "Run the emulator: one net port and one location port per node");
   // No CLI::ExistingFile: the loader's message names the file and the reason.
-  cmd->add_option("scenario", opts->scenario_path, "Scenario file (YAML); see scenarios/")
-      ->type_name("PATH");
+  cmd->add_option("scenario", opts->scenario_path,
+                  "Scenario file (YAML); see scenarios/. A bare name that is not a file here "
+                  "is looked up among the installed scenarios (share/rfsitl/scenarios)")
+      ->type_name("PATH")
+      ->transform(CLI::Validator(
+          [](std::string& path) {
+            path = scenario_file(path);
+            return std::string();
+          },
+          "", "installed scenario"));
   cmd->add_option(
          "--nodes", opts->nodes,
          "Nodes in the default formation where every link decodes (1..254; 6 without a scenario)")

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "rfsitl/common/build_version.hpp"
 #include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/monitor/node_counter_report.hpp"
 
@@ -261,6 +262,8 @@ std::string prometheus_text(const scenario::Scenario& s, engine::Engine& e,
     prometheus_family(o, name, type, help);
   };
   const engine::EngineStatus st = e.status();
+  family("rfsitl_build_info", "gauge", "This program's version (value always 1).");
+  o << "rfsitl_build_info{version=\"" << prometheus_label_value(build_version()) << "\"} 1\n";
   family("rfsitl_virtual_seconds", "gauge", "Virtual time emulated so far.");
   o << "rfsitl_virtual_seconds " << prometheus_number(st.virtual_s) << '\n';
   family("rfsitl_wall_seconds", "gauge", "Wall-clock time since the run started.");

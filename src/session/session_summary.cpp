@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "rfsitl/common/build_version.hpp"
 #include "rfsitl/monitor/stats_report.hpp"
 
 namespace rfsitl::session {
@@ -30,6 +31,7 @@ nlohmann::json merge_external_summaries(const std::vector<std::string>& texts,
 nlohmann::json summary_json(const RunSummaryParts& p) {
   nlohmann::json j = monitor::stats_with_links_json(
       p.scenario, p.engine, p.sources ? p.sources->status_fn() : position::SourceStatusFn{});
+  j["rfsitl_version"] = build_version();
   if (p.external) j["external"] = *p.external;
   if (p.pcap) j["pcap"] = p.pcap->summary();
   if (p.sigmf) j["sigmf"] = p.sigmf->summary();

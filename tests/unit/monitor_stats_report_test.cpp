@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "monitor_test_scenario.hpp"
+#include "rfsitl/common/build_version.hpp"
 
 namespace rfsitl::monitor {
 namespace {
@@ -69,6 +70,8 @@ TEST(StatsReport, PrometheusTextDeclaresEveryFamilyAndMatchesTheCounters) {
   EXPECT_EQ(values["rfsitl_frames_delivered_total{node=\"1\"}"], 5.0);
   EXPECT_EQ(values["rfsitl_frames_lost_total{node=\"3\",reason=\"below_sensitivity\"}"], 2.0);
   EXPECT_NEAR(values["rfsitl_virtual_seconds"], 0.1, 1e-9);
+  // The one version, as `rfsitl --version` and the summary JSON say it.
+  EXPECT_EQ(values["rfsitl_build_info{version=\"" + std::string(build_version()) + "\"}"], 1.0);
 }
 
 TEST(StatsReport, SnapshotLinksAreSnrInDbWithNullForNoLinkAndTheDiagonal) {
