@@ -88,12 +88,12 @@ class MpiRun:
     `d`, in a session of its own so that stop() (a cleanup of the test) ends
     mpirun and any rank it left behind. Waits for rank 0's "rfsitl: ready"."""
 
-    def __init__(self, test, d, cmd, ready_within=120):
+    def __init__(self, test, d, cmd, ready_within=120, env=None):
         self.test = test
         self.log = open(os.path.join(d, "out.log"), "w+b")
         test.addCleanup(self.log.close)
         self.proc = subprocess.Popen(cmd, stdout=self.log, stderr=subprocess.STDOUT,
-                                     env=MPI_ENV, start_new_session=True)
+                                     env=env or MPI_ENV, start_new_session=True)
         test.addCleanup(self.stop)
         deadline = time.monotonic() + ready_within
         while "rfsitl: ready" not in self.output():

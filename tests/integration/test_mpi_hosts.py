@@ -29,6 +29,13 @@ from test_mpi import (COMPARED, IP_SCENARIO, MPI_ENV, MPIRUN, NODES, SCENARIO, M
                       write)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+# Ranks in network namespaces, started through mpi_netns_agent.sh: once in six
+# full-suite runs (2026-11-28, a loaded machine) LeakSanitizer's stop-the-world
+# at exit failed there ("LeakSanitizer has encountered a fatal error", no leak
+# reported) and aborted a rank after a run whose results were complete. Leaks
+# of the same code are checked by test_mpi's ranks (one host) and every
+# one-process test; here the exit's leak check is left out.
+HOSTS_ENV = dict(MPI_ENV, ASAN_OPTIONS=MPI_ENV["ASAN_OPTIONS"] + ":detect_leaks=0")
 AGENT = os.path.join(HERE, "mpi_netns_agent.sh")
 
 
@@ -165,7 +172,7 @@ class MpiHostsTest(unittest.TestCase):
         r = subprocess.run(
             [*hosts.mpirun(d), BIN, "run", write(d, SCENARIO), "--net-base", str(net_base),
              "--loc-base", str(loc_base), "--no-dashboard", "--summary-json", summary],
-            capture_output=True, text=True, timeout=600, env=MPI_ENV)
+            capture_output=True, text=True, timeout=600, env=HOSTS_ENV)
         self.assertEqual(r.returncode, 0, r.stdout[-3000:] + r.stderr[-3000:])
         self.assertEqual(rank_hosts(r.stdout), {0: a, 1: b}, r.stdout[-3000:])
         self.assertIn(f"distributed run on 2 ranks (this is rank 0 on {a})", r.stdout)
@@ -192,7 +199,7 @@ class MpiHostsTest(unittest.TestCase):
         run = MpiRun(self, d, [*hosts.mpirun(d), BIN, "run", write(d, IP_SCENARIO),
                                "--net-base", str(net_base), "--loc-base", str(loc_base),
                                "--no-dashboard", "--summary-json", summary, *LOAD_TOLERANT],
-                     ready_within=3 * ARRIVAL_S)
+                     ready_within=3 * ARRIVAL_S, env=HOSTS_ENV)
         owners = {}
         for rank, nodes in re.findall(r"rank (\d): node\(s\) ([\d ]+) \(cost", run.output()):
             for node in nodes.split():
