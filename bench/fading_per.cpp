@@ -273,13 +273,7 @@ Outcome run_job(const PhyCase& pc, const Job& job, const std::vector<LocalPositi
   s.traffic = {{first_s, 1, 2, kPayload, job.frames, slot_s}};
   s.timing.duration_s = first_s + slot_s * job.frames + 0.05;
   scenario::validate_scenario(s);
-  session::SessionOptions options;
-  options.scenario = std::move(s);
-  options.ports = false;
-  session::Session run(std::move(options));
-  run.assemble();
-  run.serve();
-  const engine::NodeCountersSnapshot c = run.finish().counters[0];
+  const engine::NodeCountersSnapshot c = session::run_portless(std::move(s)).counters[0];
   return {c.delivered, c.pending(),
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
 }

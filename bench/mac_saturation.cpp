@@ -108,13 +108,7 @@ scenario::Scenario saturated(const std::string& mac, std::size_t senders, double
 }
 
 Result run(const scenario::Scenario& s, std::size_t payload) {
-  session::SessionOptions options;
-  options.scenario = s;
-  options.ports = false;
-  session::Session session(std::move(options));
-  session.assemble();
-  session.serve();
-  const std::vector<engine::NodeCountersSnapshot> counters = session.finish().counters;
+  const std::vector<engine::NodeCountersSnapshot> counters = session::run_portless(s).counters;
   Result r;
   std::uint64_t delivered = 0;
   std::uint64_t collided = 0;

@@ -144,13 +144,7 @@ scenario::Scenario build(const Options& o, double update_s, unsigned seconds) {
 }
 
 RunFigures run_once(const scenario::Scenario& s) {
-  session::SessionOptions options;
-  options.scenario = s;
-  options.ports = false;
-  session::Session session(std::move(options));
-  session.assemble();
-  session.serve();
-  const session::SessionSummary& summary = session.finish();
+  const session::SessionSummary summary = session::run_portless(s);
   const engine::EngineStatus& st = summary.status;
   RunFigures r{st.virtual_s, st.wall_s, st.mobility_wall_s, {}};
   for (const engine::NodeCountersSnapshot& c : summary.counters) {

@@ -46,13 +46,7 @@ Point measure(const scenario::PhyChoice& phy, const std::string& label, double s
   const double interval = 1.5 * frame_s + 0.001;
   s.traffic = {{0.001, 1, 2, payload, frames, interval}};
   s.timing.duration_s = 0.001 + interval * frames + 0.01;
-  session::SessionOptions options;
-  options.scenario = s;
-  options.ports = false;
-  session::Session run(std::move(options));
-  run.assemble();
-  run.serve();
-  return {label, snr_db, frames, run.finish().counters[0].delivered};
+  return {label, snr_db, frames, session::run_portless(s).counters[0].delivered};
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "lock_step_engine.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -165,9 +166,21 @@ void LockStepEngine::run(const std::atomic<bool>& stop) {
   // the exchange of the tick where any one of them was).
   if (link_) link_->barrier();
   clock_.start();
+  // In real time the tuner is told how long each wait for the wall clock took
+  // (two clock reads a tick, against a tick's hundreds of microseconds); in
+  // virtual time there is no wait, and no read.
+  const bool paced = scenario_.timing.mode == scenario::TimeMode::kRealTime;
   for (std::uint64_t k = 0; !stop_agreed_; ++k) {
     if (duration > 0 && now_ >= duration) break;
-    clock_.wait_for_tick(k);
+    if (paced) {
+      const auto before = std::chrono::steady_clock::now();
+      clock_.wait_for_tick(k);
+      tuner_->idle(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                       std::chrono::steady_clock::now() - before)
+                       .count());
+    } else {
+      clock_.wait_for_tick(k);
+    }
     local_stop_ = stop.load(std::memory_order_relaxed);
     if (!link_ && local_stop_) break;
     run_tick();

@@ -36,6 +36,7 @@ void WorkerTuner::start_probe(std::int64_t now) {
   current_ = pool_arm(0) ? pool_ : 1;
   epoch_work_ = 0.0;
   epoch_start_ns_ = now;
+  epoch_idle_ns_ = 0;
 }
 
 void WorkerTuner::tick_done(double work) {
@@ -50,14 +51,17 @@ void WorkerTuner::tick_done(double work) {
 void WorkerTuner::end_epoch(std::int64_t now) {
   if (!probing()) {
     epoch_start_ns_ = now;
+    epoch_idle_ns_ = 0;
     if (--epochs_left_ == 0) start_probe(now);
     return;
   }
   const std::size_t arm = current_ == 1 ? 0 : 1;
-  probe_ns_[arm] += static_cast<double>(now - epoch_start_ns_);
+  probe_ns_[arm] +=
+      static_cast<double>(std::max<std::int64_t>(0, now - epoch_start_ns_ - epoch_idle_ns_));
   probe_work_[arm] += epoch_work_;
   epoch_work_ = 0.0;
   epoch_start_ns_ = now;
+  epoch_idle_ns_ = 0;
   ++step_;
   if (step_ == kProbeEpochs / 2 && clear_cut()) step_ = kProbeEpochs;
   if (probing()) {

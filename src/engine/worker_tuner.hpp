@@ -53,6 +53,12 @@ class WorkerTuner {
   /// Must be > 0 (an idle tick still costs its loop).
   void tick_done(double work);
 
+  /// Time the engine spent waiting rather than working (real time: for the
+  /// wall clock to reach the next tick), left out of the epoch's time: in
+  /// real time an epoch lasts its wall time whatever the threads do, and only
+  /// the rest tells the arms apart.
+  void idle(std::int64_t ns) { epoch_idle_ns_ += ns; }
+
  private:
   static constexpr std::size_t kProbeEpochs = 8;  // one, all, all, one, twice
   void start_probe(std::int64_t now);
@@ -72,6 +78,7 @@ class WorkerTuner {
   std::size_t exploit_epochs_ = kFirstExploitEpochs;
   std::size_t last_choice_ = 0;  // the previous probe's verdict (0: none yet)
   std::int64_t epoch_start_ns_ = 0;
+  std::int64_t epoch_idle_ns_ = 0;
   double epoch_work_ = 0.0;
   double probe_ns_[2] = {0.0, 0.0};  // [one, all]
   double probe_work_[2] = {0.0, 0.0};

@@ -280,4 +280,14 @@ const std::string& Session::pcap_path() const {
   return pcap_path_;
 }
 
+SessionSummary run_portless(scenario::Scenario scenario) {
+  SessionOptions options;
+  options.scenario = std::move(scenario);
+  options.ports = false;
+  Session session(std::move(options));
+  session.assemble();
+  session.serve();
+  return session.finish();
+}
+
 }  // namespace rfsitl::session

@@ -23,6 +23,8 @@ import subprocess
 import tempfile
 import unittest
 
+from test_plugins import EXTRA_LOSS
+
 SOURCE_DIR = os.environ.get(
     "RFSITL_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 PACKAGES = ("rfsitl", "librfsitl-dev")
@@ -40,27 +42,7 @@ STAGE = r'''
 
 namespace {
 
-struct Settings {
-  double loss_db = 10.0;
-};
-
-const rfsitl::config::Fields<Settings>& fields() {
-  static const auto f = rfsitl::config::Fields<Settings>().real(
-      "loss_db", &Settings::loss_db, "dB", {0.0, 300.0}, "loss added to every link");
-  return f;
-}
-
-class ExtraLoss final : public rfsitl::channel::GainStage {
- public:
-  explicit ExtraLoss(double loss_db) : amplitude_(std::pow(10.0, -loss_db / 20.0)) {}
-  std::complex<double> gain(const rfsitl::channel::LinkGeometry&) const override {
-    return amplitude_;
-  }
-
- private:
-  double amplitude_;
-};
-
+'''+ EXTRA_LOSS + r'''
 void register_stage() {
   rfsitl::channel::channel_stage_registry().add(
       {fields().info("channel", "installed_extra_loss", "a fixed extra loss (package test)"),

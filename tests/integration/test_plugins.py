@@ -19,6 +19,31 @@ from harness import BIN
 
 BUILD_DIR = os.path.dirname(os.path.dirname(os.path.abspath(BIN)))
 
+# A channel stage written out of tree: a fixed extra loss on every link (also
+# test_install_package's, against the installed package).
+EXTRA_LOSS = r'''
+struct ExtraLossSettings {
+  double loss_db = 10.0;
+};
+
+const rfsitl::config::Fields<ExtraLossSettings>& fields() {
+  static const auto f = rfsitl::config::Fields<ExtraLossSettings>().real(
+      "loss_db", &ExtraLossSettings::loss_db, "dB", {0.0, 300.0}, "loss added to every link");
+  return f;
+}
+
+class ExtraLoss final : public rfsitl::channel::GainStage {
+ public:
+  explicit ExtraLoss(double loss_db) : amplitude_(std::pow(10.0, -loss_db / 20.0)) {}
+  std::complex<double> gain(const rfsitl::channel::LinkGeometry&) const override {
+    return amplitude_;
+  }
+
+ private:
+  double amplitude_;
+};
+'''
+
 COMPONENTS = r'''
 // One throwaway component of each kind. The channel stage (a fixed extra loss
 // on every link) and the sample stage (a gain on a radio's samples) are real
@@ -40,27 +65,7 @@ COMPONENTS = r'''
 
 namespace {
 
-struct ExtraLossSettings {
-  double loss_db = 10.0;
-};
-
-const rfsitl::config::Fields<ExtraLossSettings>& fields() {
-  static const auto f = rfsitl::config::Fields<ExtraLossSettings>().real(
-      "loss_db", &ExtraLossSettings::loss_db, "dB", {0.0, 300.0}, "loss added to every link");
-  return f;
-}
-
-class ExtraLoss final : public rfsitl::channel::GainStage {
- public:
-  explicit ExtraLoss(double loss_db) : amplitude_(std::pow(10.0, -loss_db / 20.0)) {}
-  std::complex<double> gain(const rfsitl::channel::LinkGeometry&) const override {
-    return amplitude_;
-  }
-
- private:
-  double amplitude_;
-};
-
+'''+ EXTRA_LOSS + r'''
 struct SampleGainSettings {
   double gain_db = 0.0;
 };

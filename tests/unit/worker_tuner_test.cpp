@@ -83,6 +83,21 @@ TEST(WorkerTuner, NormalizesByTheWorkEachEpochHad) {
   EXPECT_EQ(t.workers(), 2U);
 }
 
+TEST(WorkerTuner, InRealTimeLeavesTheWaitsForTheClockOut) {
+  // Every tick lasts 250 us of wall time (the clock paces it); the pool
+  // computes it in 60 us, one thread in 100 us. Told of the waits, the tuner
+  // sees the pool's gain; its epochs' wall times alone are all alike.
+  FakeMachine m;
+  WorkerTuner t = tuner_on(m);
+  for (std::size_t i = 0; i < 4000; ++i) {  // a second of ticks
+    const std::int64_t busy = t.workers() > 1 ? 60'000 : 100'000;
+    m.now_ns += 250'000;
+    t.idle(250'000 - busy);
+    t.tick_done(1.0);
+  }
+  EXPECT_EQ(t.workers(), 2U);
+}
+
 TEST(WorkerTuner, NeverTunesAFixedNumberOrAPoolOfOne) {
   FakeMachine m{0, [](std::size_t w) { return w > 1 ? 5000 : 1000; }};
   WorkerTuner fixed = tuner_on(m, 2, true);

@@ -220,4 +220,9 @@ class Session {
   std::thread engine_thread_;
 };
 
+/// A whole run of `scenario` without ports, IP or observers, assemble() to
+/// finish(): what benchmarks and tests need of a Session. Throws SessionError
+/// as a step does.
+SessionSummary run_portless(scenario::Scenario scenario);
+
 }  // namespace rfsitl::session
