@@ -281,7 +281,9 @@ std::function<int()> add_completion_command(CLI::App& parent) {
       parent.add_subcommand("completion", "Print the shell completion script")->group("");
   cmd->add_option("shell", opts->shell, "The shell")->required()->check(CLI::IsMember({"bash"}));
   const CLI::App* root = &parent;
-  return [root] {
+  // The parsed option lives in *opts: the command keeps it alive (CLI11
+  // writes into it while parsing, after this function has returned).
+  return [opts, root] {
     std::fputs(bash_completion(*root).c_str(), stdout);
     return 0;
   };
