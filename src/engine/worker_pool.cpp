@@ -53,15 +53,13 @@ void WorkerPool::for_each(std::size_t count, std::size_t workers,
     for (std::size_t j = 0; j < count; ++j) item(j);
     return;
   }
+  // The phase's shape in members, so that the task run() gets captures only
+  // `this` and fits std::function's inline storage: no allocation per tick.
   next_item_.store(0, std::memory_order_relaxed);
-  const std::size_t use = std::min(workers, size());
-  run([&](std::size_t w) {
-    if (w >= use) return;
-    for (std::size_t j = next_item_.fetch_add(1, std::memory_order_relaxed); j < count;
-         j = next_item_.fetch_add(1, std::memory_order_relaxed)) {
-      item(j);
-    }
-  });
+  for_count_ = count;
+  for_workers_ = std::min(workers, size());
+  for_item_ = &item;
+  run(for_each_task_);
 }
 
 void WorkerPool::worker_loop(std::size_t index) {

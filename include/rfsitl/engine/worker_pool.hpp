@@ -43,6 +43,18 @@ class WorkerPool {
   std::atomic<std::size_t> remaining_{0};
   std::atomic<bool> stop_{false};
   std::atomic<std::size_t> next_item_{0};  // for_each's next index
+  // The for_each under way (set before run(), read by its workers after the
+  // generation's release): its size, workers and item.
+  std::size_t for_count_ = 0;
+  std::size_t for_workers_ = 0;
+  const std::function<void(std::size_t)>* for_item_ = nullptr;
+  const std::function<void(std::size_t)> for_each_task_ = [this](std::size_t w) {
+    if (w >= for_workers_) return;
+    for (std::size_t j = next_item_.fetch_add(1, std::memory_order_relaxed); j < for_count_;
+         j = next_item_.fetch_add(1, std::memory_order_relaxed)) {
+      (*for_item_)(j);
+    }
+  };
 };
 
 }  // namespace rfsitl::engine
