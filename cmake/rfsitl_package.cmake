@@ -73,6 +73,21 @@ emulator, sending and receiving its samples through the emulated channel.")
   list(APPEND CPACK_COMPONENTS_ALL soapy)
 endif()
 
+if(TARGET rfsitl_python)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-rfsitl)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
+  # The interpreter and NumPy, which no shared library of theirs names;
+  # pandas is optional (tables are dicts of arrays without it).
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS "rfsitl (= ${PROJECT_VERSION}), python3, python3-numpy")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-pandas, python3-matplotlib")
+  set(CPACK_COMPONENT_PYTHON_DESCRIPTION "rfsitl from Python (module)
+The Python module rfsitl: scenarios from files or dicts, runs in virtual time
+advanced step by step (move nodes, send frames, read counters, links and I/Q
+as NumPy arrays or pandas tables), and real-time runs with their ports.")
+  list(APPEND RFSITL_PACKAGES python3-rfsitl)
+  list(APPEND CPACK_COMPONENTS_ALL python)
+endif()
+
 if(RFSITL_BUILD_GR)
   set(CPACK_DEBIAN_GR_PACKAGE_NAME gr-rfsitl)
   # The Python bindings need the interpreter and GNU Radio's own Python
@@ -95,8 +110,12 @@ set(RFSITL_GR_PACKAGE "")
 if(RFSITL_BUILD_GR)
   set(RFSITL_GR_PACKAGE gr-rfsitl)
 endif()
+set(RFSITL_PYTHON_PACKAGE "")
+if(TARGET rfsitl_python)
+  set(RFSITL_PYTHON_PACKAGE python3-rfsitl)
+endif()
 foreach(component_package program:rfsitl dev:librfsitl-dev soapy:${RFSITL_SOAPY_PACKAGE}
-        gr:${RFSITL_GR_PACKAGE})
+        gr:${RFSITL_GR_PACKAGE} python:${RFSITL_PYTHON_PACKAGE})
   string(REPLACE ":" ";" pair "${component_package}")
   list(GET pair 0 component)
   list(LENGTH pair n)

@@ -21,10 +21,6 @@ std::function<int()> add_links_command(CLI::App& parent);
 /// Registers `rfsitl describe`: the registered components and their settings.
 std::function<int()> add_describe_command(CLI::App& parent);
 
-/// Every registered component in `rfsitl describe`'s order (kinds in data-path
-/// order), the radio and front end last.
-std::vector<const config::ComponentInfo*> described_components();
-
 /// Registers the hidden `rfsitl man [COMMAND] [--directory DIR]`: the manual
 /// pages (roff) of the program, of each command and of the components
 /// (rfsitl-components(7)), from the same declarations --help and describe use.

@@ -7,36 +7,10 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "rfsitl/channel/radio.hpp"
 #include "rfsitl/config/settings_table.hpp"
-#include "rfsitl/position/mobility/mobility_component.hpp"
-#include "rfsitl/registry/channel_stage_registry.hpp"
-#include "rfsitl/registry/mac_registry.hpp"
-#include "rfsitl/registry/mobility_registry.hpp"
-#include "rfsitl/registry/phy_registry.hpp"
-#include "rfsitl/registry/position_source_registry.hpp"
-#include "rfsitl/registry/sample_stage_registry.hpp"
+#include "rfsitl/registry/all_components.hpp"
 
 namespace rfsitl::app {
-
-// Every registered component, grouped by kind in data-path order: where nodes
-// are (live sources, mobility models), the transceivers, their MACs, the channel's stages
-// (on links, then on samples), and the radio whose link budget they complete.
-std::vector<const config::ComponentInfo*> described_components() {
-  std::vector<const config::ComponentInfo*> out;
-  for (const position::PositionSourceComponent& s : position::position_source_components())
-    out.push_back(&s.info);
-  for (const position::mobility::MobilityComponent& m : position::mobility::mobility_components())
-    out.push_back(&m.info);
-  for (const phy::PhyComponent& p : phy::phy_components()) out.push_back(&p.info);
-  for (const mac::MacComponent& m : mac::mac_components()) out.push_back(&m.info);
-  for (const channel::ChannelStageComponent& s : channel::channel_stage_components())
-    out.push_back(&s.info);
-  for (const channel::SampleStageComponent& s : channel::sample_stage_components())
-    out.push_back(&s.info);
-  out.push_back(&channel::radio_info());
-  return out;
-}
 
 namespace {
 
@@ -44,11 +18,12 @@ struct DescribeOptions {
   std::string kind;
   std::string name;
   bool markdown = false;
+  bool json = false;
 };
 
 std::vector<std::string> kinds() {
   std::vector<std::string> out;
-  for (const auto* c : described_components()) {
+  for (const auto* c : registry::all_components()) {
     if (out.empty() || out.back() != c->kind) out.push_back(c->kind);
   }
   return out;
@@ -62,7 +37,7 @@ std::string join(const std::vector<std::string>& v) {
 
 std::string markdown() {
   std::string out;
-  for (const auto* c : described_components()) {
+  for (const auto* c : registry::all_components()) {
     out += "#### " + c->kind + " `" + c->name + "`\n\n" + c->doc + ".\n\n" +
            config::settings_table(*c) + "\n";
   }
@@ -74,9 +49,13 @@ int describe(const DescribeOptions& o) {
     std::fputs(markdown().c_str(), stdout);
     return 0;
   }
+  if (o.json) {
+    std::printf("%s\n", registry::all_components_json(o.kind).dump(2).c_str());
+    return 0;
+  }
   std::vector<const config::ComponentInfo*> matches;
   std::vector<std::string> names;
-  for (const auto* c : described_components()) {
+  for (const auto* c : registry::all_components()) {
     if (!o.kind.empty() && c->kind != o.kind) continue;
     names.push_back(c->name);
     if (o.name.empty() || c->name == o.name) matches.push_back(c);
@@ -116,6 +95,9 @@ std::function<int()> add_describe_command(CLI::App& parent) {
   cmd->add_option("name", opts->name, "Its name, e.g. gmsk");
   cmd->add_flag("--markdown", opts->markdown,
                 "Every component's settings table in Markdown (as in scenarios/README.md)");
+  cmd->add_flag("--json", opts->json,
+                "Every component (of KIND, if given) with its declared settings, as JSON")
+      ->excludes("--markdown");
   return [opts] { return describe(*opts); };
 }
 

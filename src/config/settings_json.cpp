@@ -47,20 +47,36 @@ Records records_from_json(const Setting& d, const nlohmann::json& j) {
 
 }  // namespace
 
+nlohmann::json to_json(const Value& value) {
+  return std::visit(
+      [](const auto& v) -> nlohmann::json {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, Records>) {
+          return records_json(v);
+        } else {
+          return v;
+        }
+      },
+      value);
+}
+
 nlohmann::json to_json(const Settings& s) {
   nlohmann::json j = nlohmann::json::object();
-  for (const auto& entry : s) {
-    std::visit(
-        [&j, &entry](const auto& v) {
-          if constexpr (std::is_same_v<std::decay_t<decltype(v)>, Records>) {
-            j[entry.first] = records_json(v);
-          } else {
-            j[entry.first] = v;
-          }
-        },
-        entry.second);
-  }
+  for (const auto& entry : s) j[entry.first] = to_json(entry.second);
   return j;
+}
+
+nlohmann::json component_json(const ComponentInfo& c) {
+  nlohmann::json settings = nlohmann::json::array();
+  for (const Setting& d : c.settings) {
+    settings.push_back({{"name", d.name},
+                        {"type", type_name(d.type)},
+                        {"default", to_json(d.default_value)},
+                        {"unit", d.unit},
+                        {"limits", d.limits_text()},
+                        {"choices", d.choices},
+                        {"doc", d.doc}});
+  }
+  return {{"kind", c.kind}, {"name", c.name}, {"doc", c.doc}, {"settings", std::move(settings)}};
 }
 
 Settings settings_from_json(const ComponentInfo& component, const nlohmann::json& j) {

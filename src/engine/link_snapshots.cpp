@@ -5,7 +5,12 @@
 namespace rfsitl::engine {
 
 void LinkSnapshots::maybe_copy(const channel::ChannelMatrix& channel, SampleTime now) {
-  if (!stale_ || now < next_copy_) return;
+  if (now < next_copy_) return;
+  copy_if_stale(channel, now);
+}
+
+void LinkSnapshots::copy_if_stale(const channel::ChannelMatrix& channel, SampleTime now) {
+  if (!stale_) return;
   if (channel.time_varying()) {
     copy_links(channel);
     copied(now, kLinksPeriodS);

@@ -27,6 +27,10 @@ class LinkSnapshots {
   /// without time-varying stages; otherwise the links themselves (every
   /// kLinksPeriodS), from which readers compute the gains of their moment.
   void maybe_copy(const channel::ChannelMatrix& channel, SampleTime now);
+  /// Engine thread: copies now if something moved since the last copy,
+  /// whatever the period (a run in parts, between two parts: the caller reads
+  /// what its moves did).
+  void copy_if_stale(const channel::ChannelMatrix& channel, SampleTime now);
 
   /// Any thread: every node's position at the latest copy.
   std::vector<std::optional<Ecef>> positions() const;

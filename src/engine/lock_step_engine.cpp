@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -159,19 +160,47 @@ EngineStatus LockStepEngine::status() const {
   return st;
 }
 
+SampleTime LockStepEngine::duration_samples() const {
+  return static_cast<SampleTime>(scenario_.timing.duration_s * scenario_.timing.sample_rate_hz);
+}
+
 void LockStepEngine::run(const std::atomic<bool>& stop) {
-  const auto duration =
-      static_cast<SampleTime>(scenario_.timing.duration_s * scenario_.timing.sample_rate_hz);
+  if (clock_started_) throw std::logic_error("engine: run() after advance() or a second run()");
+  ran_ = true;
   // Ranks start their clocks together (and are told to stop together, by
   // the exchange of the tick where any one of them was).
   if (link_) link_->barrier();
   clock_.start();
+  clock_started_ = true;
+  const SampleTime duration = duration_samples();
+  tick_until(duration > 0 ? duration : std::numeric_limits<SampleTime>::max(), stop);
+  if (link_) merge_counters();
+  publish_status();
+}
+
+SampleTime LockStepEngine::advance(SampleTime until, const std::atomic<bool>& stop) {
+  if (link_) throw std::logic_error("engine: a distributed run cannot advance in parts");
+  if (ran_) throw std::logic_error("engine: advance() after run()");
+  if (!clock_started_) {
+    clock_.start();
+    clock_started_ = true;
+  }
+  const SampleTime duration = duration_samples();
+  tick_until(duration > 0 ? std::min(until, duration) : until, stop);
+  // The caller reads between the parts: what it moved is in the views now,
+  // not at the next period (a copy: no outcome changes).
+  snapshots_.copy_if_stale(channel_, now_);
+  publish_status();
+  return now_;
+}
+
+void LockStepEngine::tick_until(SampleTime end, const std::atomic<bool>& stop) {
   // In real time the tuner is told how long each wait for the wall clock took
   // (two clock reads a tick, against a tick's hundreds of microseconds); in
   // virtual time there is no wait, and no read.
   const bool paced = scenario_.timing.mode == scenario::TimeMode::kRealTime;
-  for (std::uint64_t k = 0; !stop_agreed_; ++k) {
-    if (duration > 0 && now_ >= duration) break;
+  while (!stop_agreed_ && now_ < end) {
+    const std::uint64_t k = tick_index_;
     if (paced) {
       const auto before = std::chrono::steady_clock::now();
       clock_.wait_for_tick(k);
@@ -184,10 +213,9 @@ void LockStepEngine::run(const std::atomic<bool>& stop) {
     local_stop_ = stop.load(std::memory_order_relaxed);
     if (!link_ && local_stop_) break;
     run_tick();
+    ++tick_index_;
     publish_status();
   }
-  if (link_) merge_counters();
-  publish_status();
 }
 
 std::size_t LockStepEngine::worker_count(const scenario::Scenario& s, std::size_t ranks_on_host) {

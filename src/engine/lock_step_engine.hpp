@@ -89,6 +89,7 @@ class LockStepEngine final : public Engine {
   }
 
   void run(const std::atomic<bool>& stop) override;
+  SampleTime advance(SampleTime until, const std::atomic<bool>& stop) override;
 
  private:
   /// One per core (or as set), and at least one per remote transceiver: those
@@ -143,6 +144,11 @@ class LockStepEngine final : public Engine {
   /// Observers do not count: a watched idle receiver's input is computed for
   /// them (RxTick::kWatched) without running it.
   bool receiver_must_run(std::size_t m) const;
+  /// The scenario's duration in samples (0: none), and the loop both run()
+  /// and advance() drive: ticks while the virtual time is before `end` and
+  /// neither `stop` nor (distributed) another rank said stop.
+  SampleTime duration_samples() const;
+  void tick_until(SampleTime end, const std::atomic<bool>& stop);
 
   /// Whether receiver m has work beyond noise this tick (the skip condition's
   /// second half); also how the RX phase judges whether parallelism pays.
@@ -269,6 +275,9 @@ class LockStepEngine final : public Engine {
   std::vector<bool> owned_;
   std::optional<RankLink> link_;
   bool local_stop_ = false;                // this rank was told to stop
+  bool clock_started_ = false;             // run() or the first advance() started it
+  bool ran_ = false;                       // run() was called: advance() may not go on
+  std::uint64_t tick_index_ = 0;           // ticks run so far (the clock's k)
   bool stop_agreed_ = false;               // some rank was: every rank stops after this tick
   std::vector<StateUpdate> peer_updates_;  // applied at the next tick's start
   TxMessage tx_out_;                       // this rank's message A, built every tick

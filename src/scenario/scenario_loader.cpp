@@ -340,6 +340,17 @@ int last_line(std::string_view text) {
   return std::max(1, text.empty() || text.back() == '\n' ? newlines : newlines + 1);
 }
 
+Scenario read_document(const YAML::Node& root, const std::string& source,
+                       const std::string& source_dir) {
+  Context context(source);
+  Scenario s = read_scenario(context, root);
+  s.source_dir = source_dir;
+  validate(s, context);
+  check_stage_files(s, context);
+  check_mobility_files(s, context);
+  return s;
+}
+
 Scenario parse_in(std::string_view yaml_text, const std::string& source,
                   const std::string& source_dir) {
   YAML::Node root;
@@ -357,19 +368,49 @@ Scenario parse_in(std::string_view yaml_text, const std::string& source,
                                   : " (column " + std::to_string(e.mark.column + 1) + ")";
     throw make_error(source, line, "YAML syntax", e.msg + where);
   }
-  Context context(source);
-  Scenario s = read_scenario(context, root);
-  s.source_dir = source_dir;
-  validate(s, context);
-  check_stage_files(s, context);
-  check_mobility_files(s, context);
-  return s;
+  return read_document(root, source, source_dir);
+}
+
+// A JSON value as the YAML a file would hold: strings quoted (so that "5" is
+// a string where a number is expected, as in a file), numbers and booleans
+// plain. The nodes carry no marks, so errors name keys without lines.
+YAML::Node yaml_of(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::object: {
+      YAML::Node map(YAML::NodeType::Map);
+      for (const auto& [key, value] : j.items()) map[key] = yaml_of(value);
+      return map;
+    }
+    case nlohmann::json::value_t::array: {
+      YAML::Node list(YAML::NodeType::Sequence);
+      for (const auto& value : j) list.push_back(yaml_of(value));
+      return list;
+    }
+    case nlohmann::json::value_t::string: {
+      YAML::Node text(j.get<std::string>());
+      text.SetTag("!");
+      return text;
+    }
+    case nlohmann::json::value_t::null:
+      return YAML::Node(YAML::NodeType::Null);
+    default:
+      return YAML::Node(j.dump());  // a number or a boolean, as JSON writes it
+  }
 }
 
 }  // namespace
 
 Scenario parse_scenario(std::string_view yaml_text, const std::string& source) {
   return parse_in(yaml_text, source, "");
+}
+
+Scenario scenario_from_json(const nlohmann::json& document, const std::string& source,
+                            const std::string& base_dir) {
+  if (!document.is_object()) {
+    throw ScenarioError(source + ": a scenario is a mapping of sections, got " +
+                        std::string(document.type_name()));
+  }
+  return read_document(yaml_of(document), source, base_dir);
 }
 
 Scenario load_scenario_file(const std::string& path) {

@@ -1,6 +1,7 @@
 /// The Session's last two steps, serve and finish, and its teardown.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "rfsitl/monitor/node_counter_report.hpp"
 #include "rfsitl/session/session.hpp"
@@ -14,28 +15,10 @@ constexpr auto kPeersGrace = std::chrono::seconds(10);
 }  // namespace
 
 ServeResult Session::serve(const ServeHooks& hooks) {
-  // Opening: the sources report into the engine, the net ports and the TAP
-  // interfaces hand it frames, the children join its hub. Every rank opens,
-  // or none runs.
-  run_step(Step::kServe, true, [this] {
-    if (sources_) sources_->start(*engine_);
-    if (servers_) servers_->start(*engine_);
-    if (ip_) ip_->start(*engine_);
-    if (external_) external_->start_children();
-  });
-  if (ip_) {
-    // Every rank's interfaces (collective), for the banner and the summary.
-    const nlohmann::json mine = ip_->summary();
-    for (const std::string& text :
-         gather_texts(ranks_, nlohmann::json{mine["nodes"], mine["removed_stale"]}.dump())) {
-      const nlohmann::json theirs = nlohmann::json::parse(text);
-      for (auto& n : agent_port::ip_nodes_from_json(theirs[0])) ip_nodes_.push_back(std::move(n));
-      for (const auto& name : theirs[1]) ip_stale_.push_back(name);
-    }
-    std::sort(ip_nodes_.begin(), ip_nodes_.end(), [this](const auto& a, const auto& b) {
-      return engine_->index_of(a.id) < engine_->index_of(b.id);
-    });
+  if (in_parts_) {
+    throw SessionStepError("session: serve() after open(): a run in parts goes on by advance()");
   }
+  open_faces();
   if (hooks.ready && !hooks.ready()) {
     refusal_ = "the run was cancelled before its first tick";
     return {ServeEnd::kCancelled, {}};
@@ -74,6 +57,55 @@ ServeResult Session::serve(const ServeHooks& hooks) {
   return {ServeEnd::kCompleted, {}};
 }
 
+void Session::open_faces() {
+  // Opening: the sources report into the engine, the net ports and the TAP
+  // interfaces hand it frames, the children join its hub. Every rank opens,
+  // or none runs.
+  run_step(Step::kServe, true, [this] {
+    if (sources_) sources_->start(*engine_);
+    if (servers_) servers_->start(*engine_);
+    if (ip_) ip_->start(*engine_);
+    if (external_) external_->start_children();
+  });
+  if (ip_) {
+    // Every rank's interfaces (collective), for the banner and the summary.
+    const nlohmann::json mine = ip_->summary();
+    for (const std::string& text :
+         gather_texts(ranks_, nlohmann::json{mine["nodes"], mine["removed_stale"]}.dump())) {
+      const nlohmann::json theirs = nlohmann::json::parse(text);
+      for (auto& n : agent_port::ip_nodes_from_json(theirs[0])) ip_nodes_.push_back(std::move(n));
+      for (const auto& name : theirs[1]) ip_stale_.push_back(name);
+    }
+    std::sort(ip_nodes_.begin(), ip_nodes_.end(), [this](const auto& a, const auto& b) {
+      return engine_->index_of(a.id) < engine_->index_of(b.id);
+    });
+  }
+}
+
+void Session::open() {
+  if (ranks_.distributed() && next_ == Step::kServe) {
+    refusal_ = "a distributed run cannot go in parts";
+    throw SessionError("a distributed run cannot go in parts: its ticks are collective (serve())");
+  }
+  open_faces();
+  in_parts_ = true;
+}
+
+double Session::advance(double until_s) {
+  if (!in_parts_ || next_ != Step::kServe) {
+    throw SessionStepError(std::string("session: advance() needs open() first (the step due is '") +
+                           step_name(next_) + "')");
+  }
+  const double fs = scenario_.timing.sample_rate_hz;
+  const auto until = static_cast<SampleTime>(std::ceil(std::max(0.0, until_s) * fs));
+  try {
+    return static_cast<double>(engine_->advance(until, stop_)) / fs;
+  } catch (const std::exception& e) {
+    refusal_ = std::string("the run failed: ") + e.what();
+    throw SessionError(refusal_);
+  }
+}
+
 void Session::engine_main() {
   std::string error;
   try {
@@ -91,6 +123,8 @@ void Session::engine_main() {
 }
 
 const SessionSummary& Session::finish() {
+  // A run in parts ends wherever advance() left it.
+  if (in_parts_ && next_ == Step::kServe && refusal_.empty()) next_ = Step::kFinish;
   // Not collective as a step: the one collective part (the external nodes'
   // summaries) every rank reaches alike, its scenario deciding.
   run_step(Step::kFinish, false, [this] {

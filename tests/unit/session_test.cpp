@@ -3,6 +3,7 @@
 // module use it; its counters and summary; steps out of order refused.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <mutex>
 #include <string>
@@ -181,6 +182,64 @@ TEST(Session, HooksCancelOrStopTheRun) {
     const SessionSummary& r = run.finish();
     EXPECT_LT(r.status.virtual_s, 1000.0);
   }
+}
+
+}  // namespace
+}  // namespace rfsitl::session
+
+namespace rfsitl::session {
+namespace {
+
+// A run in parts (open, advance, advance, finish) ends with the counters of
+// one serve() of the same scenario, whatever the parts' lengths; frames
+// handed in between two parts go out from the next tick.
+TEST(Session, ARunInPartsEndsAsOneServe) {
+  CountingSink whole_sink;
+  Session whole(portless(&whole_sink));
+  whole.assemble();
+  ASSERT_EQ(whole.serve().end, ServeEnd::kCompleted);
+  const SessionSummary& once = whole.finish();
+
+  CountingSink parts_sink;
+  Session parts(portless(&parts_sink));
+  parts.assemble();
+  EXPECT_THROW(parts.advance(0.1), SessionStepError);  // not opened yet
+  parts.open();
+  const double tick = static_cast<double>(parts.scenario().timing.tick_samples) /
+                      parts.scenario().timing.sample_rate_hz;
+  EXPECT_NEAR(parts.advance(0.0), 0.0, 1e-12);  // nothing to do
+  EXPECT_NEAR(parts.advance(0.1003), 0.1003 + tick - std::fmod(0.1003, tick), 1e-9);
+  EXPECT_NEAR(parts.advance(0.2), 0.2, 1e-9);
+  EXPECT_NEAR(parts.advance(7.0), 0.5, 1e-9);  // the scenario's duration ends it
+  EXPECT_NEAR(parts.advance(8.0), 0.5, 1e-9);  // and stays ended
+  const SessionSummary& r = parts.finish();
+  EXPECT_EQ(parts.next_step(), Step::kDone);
+  ASSERT_EQ(r.counters.size(), once.counters.size());
+  for (std::size_t i = 0; i < r.counters.size(); ++i) {
+    EXPECT_EQ(r.counters[i].handed_in, once.counters[i].handed_in) << i;
+    EXPECT_EQ(r.counters[i].delivered, once.counters[i].delivered) << i;
+    EXPECT_EQ(r.counters[i].received, once.counters[i].received) << i;
+    EXPECT_EQ(r.counters[i].lost, once.counters[i].lost) << i;
+  }
+  EXPECT_EQ(parts_sink.frames, whole_sink.frames);
+  EXPECT_EQ(r.document["nodes"], once.document["nodes"]);
+}
+
+TEST(Session, FramesHandedInBetweenPartsAreSent) {
+  CountingSink sink;
+  SessionOptions o = portless(&sink);
+  o.scenario->traffic.clear();
+  Session run(std::move(o));
+  run.assemble();
+  run.open();
+  run.advance(0.1);
+  ASSERT_TRUE(run.engine().submit(2, NetFrame{3, 1, std::vector<std::uint8_t>(30, 7)}));
+  run.advance(0.2);
+  EXPECT_EQ(run.engine().counters(2).delivered.load(), 1U);
+  EXPECT_EQ(sink.frames, (std::vector<std::size_t>{1, 0, 0}));
+  // A run in parts cannot also be served.
+  EXPECT_THROW(run.serve(), SessionStepError);
+  run.finish();
 }
 
 }  // namespace

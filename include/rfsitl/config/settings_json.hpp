@@ -7,6 +7,15 @@
 
 namespace rfsitl::config {
 
+/// A value as JSON: a boolean, number or string; a list setting's records as
+/// an array of objects.
+nlohmann::json to_json(const Value& value);
+
+/// {"kind", "name", "doc", "settings": [{"name", "type", "default", "unit",
+/// "limits", "choices", "doc"}, ...]}: what `rfsitl describe` prints, as data
+/// (`rfsitl describe --json`, the Python module's rfsitl.components()).
+nlohmann::json component_json(const ComponentInfo& component);
+
 /// {"name": value, ...} in declaration order; a list setting is an array of
 /// objects, [{"t": 0, "x": 1}, ...].
 nlohmann::json to_json(const Settings& s);

@@ -129,8 +129,19 @@ class Engine : public position::PositionSink {
   virtual std::vector<float> link_gains() const = 0;
 
   /// Runs ticks on the calling thread until `stop` is set or the scenario's
-  /// duration has been emulated. Call once.
+  /// duration has been emulated. Call once, and not with advance().
   virtual void run(const std::atomic<bool>& stop) = 0;
+
+  /// Runs ticks on the calling thread until the virtual time reaches `until`
+  /// samples (a whole number of ticks: the first tick boundary at or after
+  /// it), the scenario's duration (when it has one), or `stop` is set; then
+  /// returns the virtual time reached. Called again, it goes on from there, so
+  /// a caller can act between two calls (move nodes, hand in frames, read the
+  /// counters) and the outcomes are those of one run() with the same acts at
+  /// the same ticks. On return positions() and link_gains() show the
+  /// channel as it is now. One process only: throws std::logic_error in a
+  /// distributed run (its ticks are collective) and after run().
+  virtual SampleTime advance(SampleTime until, const std::atomic<bool>& stop) = 0;
 
   /// Frames waiting in node `node`'s TX queue (thread-safe, approximate while
   /// the queue changes).

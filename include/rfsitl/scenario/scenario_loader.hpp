@@ -4,6 +4,8 @@
 #include <string>
 #include <string_view>
 
+#include <nlohmann/json.hpp>
+
 #include "rfsitl/scenario/scenario.hpp"
 
 namespace rfsitl::scenario {
@@ -19,6 +21,16 @@ class ScenarioError : public std::runtime_error {
 /// Unknown keys, wrong types, out-of-range values, duplicate node ids and port
 /// ranges that do not fit in 1..65535 are errors. Throws ScenarioError.
 Scenario parse_scenario(std::string_view yaml_text, const std::string& source);
+
+/// Reads a scenario given as a JSON document (what a Python dict becomes)
+/// with a file's readers and rules: strings are text, numbers and booleans
+/// plain values, exactly as a file would quote them. Errors read "<source>:
+/// <key>: <reason>", the key being the path in the document
+/// ("nodes[1].phy.type"); a document has no lines. Relative paths of data
+/// files (mobility traces, antenna patterns) are taken from `base_dir` ("":
+/// the working folder). Throws ScenarioError.
+Scenario scenario_from_json(const nlohmann::json& document, const std::string& source,
+                            const std::string& base_dir = "");
 
 /// Reads the file and parses it. Throws ScenarioError (also when unreadable).
 Scenario load_scenario_file(const std::string& path);

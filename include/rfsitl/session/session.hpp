@@ -21,8 +21,14 @@
 /// other threads may call request_stop() and the engine's thread-safe views
 /// (status(), counters()) through a reference taken from engine() before.
 ///
-/// Not yet: advancing a run by parts (run to 1 s, read, run on to 2 s); the
-/// engine's run() goes once to its end. serve() runs the whole duration.
+/// A run in one process may also go in parts instead of serve(), on the
+/// caller's thread (the Python module's virtual-time runs):
+///
+///   s.assemble();
+///   s.open();                // the faces, as serve() opens them
+///   s.advance(1.0);          // to 1 s of virtual time; read, move, send...
+///   s.advance(2.0);          // on to 2 s
+///   s.finish();
 #include <atomic>
 #include <condition_variable>
 #include <functional>
@@ -121,8 +127,20 @@ class Session {
   /// collective and throws SessionError as a step does; the run's own end is
   /// the result.
   ServeResult serve(const ServeHooks& hooks = {});
+  /// Opens every face as serve() does (hooks.ready is not asked) and runs no
+  /// tick: the run then goes on by advance(), on the calling thread. Step
+  /// "serve"; one process only (a distributed run's ticks are collective:
+  /// SessionError).
+  void open();
+  /// After open(): runs the engine on the calling thread until `until_s`
+  /// seconds of virtual time (the next tick boundary at or after it), the
+  /// scenario's duration, or request_stop(); returns the time reached (s).
+  /// May be called again and again; in real time it waits for the wall clock
+  /// as serve() does. An engine that throws fails the Session (SessionError).
+  double advance(double until_s);
   /// Stops the faces, finishes the traces, gathers the summary (collective:
-  /// every rank's external nodes). Precondition: serve() ended kCompleted.
+  /// every rank's external nodes). Precondition: serve() ended kCompleted, or
+  /// open() was called (however far advance() went).
   const SessionSummary& finish();
 
   /// Asks a running engine to stop at its next tick. Any thread; idempotent.
@@ -161,6 +179,7 @@ class Session {
   /// other ranks first.
   void run_step(Step step, bool collective, const std::function<void()>& body);
   void require_done(Step step) const;  // throws SessionStepError if `step` is not done
+  void open_faces();                   // serve()'s and open()'s opening
   void close_faces();                  // stops everything that calls into the engine
   void engine_main();                  // the engine's thread
 
@@ -217,6 +236,7 @@ class Session {
   bool ended_ = false;        // the engine's run returned
   std::string engine_error_;  // what it threw
   bool stuck_ = false;        // ServeEnd::kPeersLost: the thread cannot be joined
+  bool in_parts_ = false;     // open() was called: advance() drives the engine
   std::thread engine_thread_;
 };
 
