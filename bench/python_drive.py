@@ -1,11 +1,12 @@
 #!/usr/bin/python3
 """The cost of driving the engine from Python: virtual-time speed of one
 scenario run by rfsitl_virtual_speed (C++, in one go) and by the Python
-module stepping 100 ms at a time (reading the counters after each step, as a
-controller would), alternated run by run; medians and their ratio.
+module in one step, in steps of 100 ms, and in steps of 100 ms reading the
+counters and the link table after each (as a controller would), alternated
+run by run; medians and their ratios to the C++ figure.
 
     PYTHONPATH=build/release/python /usr/bin/python3 bench/python_drive.py \
-        --bench-bin build/release/bench/rfsitl_virtual_speed [--nodes 15] [--duration 20] [--runs 3]
+        --bench-bin build/release/bench/rfsitl_virtual_speed [--nodes 15] [--duration 60] [--runs 3]
 
 The scenario: N nodes on a grid 20 m apart, each sending an 80-byte frame a
 second to a random other node at a random time (the load rfsitl_virtual_speed
@@ -48,13 +49,17 @@ def cxx_speed(bench_bin, path):
     return float(re.search(r"speed=([0-9.]+) x", out).group(1))
 
 
-def python_speed(path, step_s):
+def python_speed(path, step_s, read):
+    """Speed through the module, stepping `step_s` (reading the counters and
+    the link table after each step if `read`)."""
     import rfsitl
-    emu = rfsitl.Emulator(path, keep_frames=False, record_events=False)
+    emu = rfsitl.Emulator(path, keep_frames=False, record_events=False, iq=False)
     t0 = time.perf_counter()
     while not emu.done:
         emu.run_for(step_s)
-        emu.counters()
+        if read:
+            emu.counters()
+            emu.links()
     wall = time.perf_counter() - t0
     return emu.now / wall
 
@@ -63,7 +68,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bench-bin", required=True, help="rfsitl_virtual_speed of the same build")
     ap.add_argument("--nodes", type=int, default=15)
-    ap.add_argument("--duration", type=float, default=20.0)
+    ap.add_argument("--duration", type=float, default=60.0)
     ap.add_argument("--step", type=float, default=0.1, help="Python's step, virtual seconds")
     ap.add_argument("--runs", type=int, default=3)
     args = ap.parse_args()
@@ -71,16 +76,23 @@ def main():
         path = os.path.join(tmp, "scenario.yaml")
         with open(path, "w") as f:
             f.write(scenario_yaml(args.nodes, args.duration, 1))
-        cxx, py = [], []
-        for _ in range(args.runs):
-            cxx.append(cxx_speed(args.bench_bin, path))
-            py.append(python_speed(path, args.step))
-    c, p = statistics.median(cxx), statistics.median(py)
-    print(f"python_drive: nodes={args.nodes} duration={args.duration} s runs={args.runs} "
-          f"step={args.step} s")
-    print(f"  rfsitl_virtual_speed  median {c:8.2f} x real time  ({', '.join(f'{v:.2f}' for v in cxx)})")
-    print(f"  Python module         median {p:8.2f} x real time  ({', '.join(f'{v:.2f}' for v in py)})")
-    print(f"  Python / C++ = {p / c:.3f}")
+        kinds = {
+            "rfsitl_virtual_speed (C++, one go)": lambda: cxx_speed(args.bench_bin, path),
+            "module, one step": lambda: python_speed(path, args.duration + 1.0, False),
+            f"module, {args.step} s steps": lambda: python_speed(path, args.step, False),
+            f"module, {args.step} s steps + counters + links": lambda: python_speed(
+                path, args.step, True),
+        }
+        speeds = {k: [] for k in kinds}
+        for _ in range(args.runs):  # alternated, so that a busy moment hits all alike
+            for name, run in kinds.items():
+                speeds[name].append(run())
+    print(f"python_drive: nodes={args.nodes} duration={args.duration} s runs={args.runs}")
+    base = statistics.median(speeds[next(iter(kinds))])
+    for name, values in speeds.items():
+        m = statistics.median(values)
+        print(f"  {name:44s} median {m:8.2f} x real time  ratio {m / base:.3f}  "
+              f"({', '.join(f'{v:.1f}' for v in values)})")
     return 0
 
 

@@ -17,6 +17,9 @@ PACKAGES=(
   chromium nodejs
   # IP on every node (--ip): namespaces (iproute2) and the stock tools the tests run in them
   iproute2 iputils-ping babeld
+  # the Python module's tables (pandas) and its notebook run headless in the
+  # tests (nbconvert and a Python kernel)
+  python3-pandas jupyter-nbconvert python3-ipykernel
   # bench/ip_throughput.py: TCP and UDP goodput between two IP nodes
   iperf3
   # bench/thread_tuning.sh: a competing load beside the engine

@@ -129,14 +129,16 @@ class Emulator:
     caller is every node's agent: decoded frames are kept as "received" events
     (keep_frames=False counts them as to_agent_dropped instead, as `rfsitl run`
     does with no agent connected, so that both give the same counters).
+    With record_events=False and iq=False nothing watches the engine (no
+    events(), received() or tap()): a run then costs what `rfsitl run` costs.
     """
 
     def __init__(self, scenario: Union[Scenario, str, os.PathLike, Mapping[str, Any]], *,
-                 keep_frames: bool = True, record_events: bool = True,
+                 keep_frames: bool = True, record_events: bool = True, iq: bool = True,
                  max_events: int = 1_000_000, max_tap_samples: int = 1 << 24,
                  pcap: Optional[str] = None, sigmf: Optional[str] = None):
         self.scenario = _as_scenario(scenario)
-        self._run = _rfsitl.VirtualRun(self.scenario, keep_frames, record_events, max_events,
+        self._run = _rfsitl.VirtualRun(self.scenario, keep_frames, record_events, iq, max_events,
                                        max_tap_samples, pcap or "", sigmf or "")
         self._events: List[Dict[str, Any]] = []
         self._summary: Optional[Dict[str, Any]] = None
@@ -236,10 +238,14 @@ class Emulator:
     def counters(self):
         """Every node's counters (the summary's, one row per node id)."""
         names, table = self._run.counters()
-        columns = {"node": np.asarray(self.node_ids, dtype=np.uint8)}
+        ids = np.asarray(self.node_ids, dtype=np.uint8)
+        if _pd is not None:  # one block: no copy, no column by column assembly
+            return _pd.DataFrame(table, index=_pd.Index(ids, name="node"), columns=names,
+                                 copy=False)
+        columns = {"node": ids}
         for j, name in enumerate(names):
             columns[name] = table[:, j]
-        return _table(columns, "node")
+        return columns
 
     def links(self, payload_bytes: int = 80):
         """Every ordered pair (tx, rx): distance (m), path gain (dB, fading

@@ -240,12 +240,13 @@ PYBIND11_MODULE(_rfsitl, m) {
                              [](const scenario::Scenario& s) { return s.channel.noise_variance; });
 
   py::class_<python::VirtualRun>(m, "VirtualRun")
-      .def(py::init([](const scenario::Scenario& s, bool keep_frames, bool record_events,
+      .def(py::init([](const scenario::Scenario& s, bool keep_frames, bool record_events, bool taps,
                        std::size_t max_events, std::size_t max_tap_samples, const std::string& pcap,
                        const std::string& sigmf) {
              python::VirtualRunOptions o;
              o.keep_frames = keep_frames;
              o.record_events = record_events;
+             o.taps = taps;
              o.max_events = max_events;
              o.max_tap_samples = max_tap_samples;
              o.pcap_path = pcap;
@@ -253,7 +254,7 @@ PYBIND11_MODULE(_rfsitl, m) {
              py::gil_scoped_release unlocked;
              return std::make_unique<python::VirtualRun>(s, o);
            }),
-           py::arg("scenario"), py::arg("keep_frames"), py::arg("record_events"),
+           py::arg("scenario"), py::arg("keep_frames"), py::arg("record_events"), py::arg("taps"),
            py::arg("max_events"), py::arg("max_tap_samples"), py::arg("pcap"), py::arg("sigmf"))
       .def_property_readonly("node_ids",
                              [](const python::VirtualRun& r) {

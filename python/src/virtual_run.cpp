@@ -34,7 +34,8 @@ VirtualRun::VirtualRun(scenario::Scenario scenario, const VirtualRunOptions& opt
   const scenario::Scenario& s = session_->scenario();
   log_ = std::make_unique<RunLog>(s.nodes.size(), options.record_events, options.max_events,
                                   options.max_tap_samples);
-  engine_->add_observer(*log_);
+  taps_ = options.taps;
+  if (options.record_events || options.taps) engine_->add_observer(*log_);
   curves_ = monitor::declared_per_curves(s);
   session_->open();
 }
@@ -111,6 +112,11 @@ std::vector<monitor::LinkRow> VirtualRun::links(std::size_t payload_bytes) const
   in.curves = curves_;
   in.payload_bytes = payload_bytes;
   return monitor::link_rows(in);
+}
+
+void VirtualRun::set_tap(NodeId id, bool on) {
+  if (!taps_) throw std::logic_error("this run was made without taps (iq=False)");
+  log_->set_tap(index_of(id), on);
 }
 
 TapBuffer VirtualRun::take_samples(NodeId id) {

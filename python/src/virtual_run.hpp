@@ -28,6 +28,9 @@ struct VirtualRunOptions {
   /// connected (so that both give the same counters).
   bool keep_frames = true;
   bool record_events = true;
+  /// Nodes' samples may be tapped (set_tap). Without this and record_events
+  /// nothing watches the engine: the run costs what `rfsitl run` costs.
+  bool taps = true;
   std::size_t max_events = 1'000'000;
   std::size_t max_tap_samples = std::size_t{1} << 24;
   std::string pcap_path;  ///< "": no trace
@@ -69,7 +72,8 @@ class VirtualRun {
 
   std::vector<engine::FrameEvent> take_events() { return log_->take_events(); }
   std::uint64_t events_dropped() const { return log_->events_dropped(); }
-  void set_tap(NodeId id, bool on) { log_->set_tap(index_of(id), on); }
+  /// std::logic_error unless the options allowed taps.
+  void set_tap(NodeId id, bool on);
   /// Node `id`'s samples of the latest step (moved out: a second call gives
   /// none), and the virtual sample time of the first.
   TapBuffer take_samples(NodeId id);
@@ -86,7 +90,8 @@ class VirtualRun {
   std::unique_ptr<Agents> agents_;
   std::unique_ptr<session::Session> session_;
   engine::Engine* engine_ = nullptr;
-  std::unique_ptr<RunLog> log_;
+  std::unique_ptr<RunLog> log_;  // the engine's observer only with events or taps
+  bool taps_ = false;
   std::vector<phy::PerCurve> curves_;
   const nlohmann::json* summary_ = nullptr;
 };
