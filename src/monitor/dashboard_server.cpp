@@ -19,6 +19,7 @@
 #include <spdlog/spdlog.h>
 #include <nlohmann/json.hpp>
 
+#include "rfsitl/common/build_version.hpp"
 #include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/common/log_text.hpp"
 #include "rfsitl/monitor/control_token.hpp"
@@ -140,6 +141,7 @@ class Server final : public Dashboard {
     const bool may_control = settings_.control && v->control_refusal().empty();
     Json hello = {{"type", "hello"},
                   {"scenario", scenario_.name},
+                  {"rfsitl_version", build_version()},
                   {"control", may_control},
                   {"sample_rate_hz", scenario_.timing.sample_rate_hz},
                   {"spectrum_bins", LiveView::kSpectrumBins},

@@ -15,6 +15,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "rfsitl/common/build_version.hpp"
+
 namespace rfsitl::monitor {
 namespace {
 
@@ -257,7 +259,7 @@ class PcapTraceImpl final : public PcapTrace {
     b.u16(1);                  // major version
     b.u16(0);                  // minor version
     b.u64(~std::uint64_t{0});  // section length: not given
-    b.option(kShbUserAppl, std::string("rfsitl"));
+    b.option(kShbUserAppl, std::string("rfsitl ") + build_version());
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "rfsitl frame-event trace; timestamp = epoch_offset_s + virtual time; "

@@ -1,5 +1,6 @@
 #include "rfsitl/monitor/sigmf_recorder.hpp"
 
+#include "rfsitl/common/build_version.hpp"
 #include "rfsitl/monitor/json_text.hpp"
 
 #include <algorithm>
@@ -355,7 +356,7 @@ class SigmfRecorderImpl final : public SigmfRecorder {
                           ", serial " + serial + ", " + f.phy;
     if (f.rate_mbps != 0) comment += " " + std::to_string(f.rate_mbps) + " Mbit/s";
     a["core:comment"] = comment;
-    a["core:generator"] = "rfsitl";
+    a["core:generator"] = std::string("rfsitl ") + build_version();
     a["rfsitl:src"] = f.src;
     a["rfsitl:dst"] = f.dst;
     a["rfsitl:serial"] = f.serial;
@@ -384,7 +385,7 @@ class SigmfRecorderImpl final : public SigmfRecorder {
                   c.id, scenario_name_.c_str(), static_cast<double>(window_start_) / fs_,
                   static_cast<double>(window_end_) / fs_);
     global["core:description"] = desc;
-    global["core:recorder"] = "rfsitl";
+    global["core:recorder"] = std::string("rfsitl ") + build_version();
     global["core:extensions"] =
         Json::array({Json{{"name", "rfsitl"}, {"version", "1.0.0"}, {"optional", true}}});
     global["rfsitl:node_id"] = c.id;

@@ -242,6 +242,21 @@ class InstalledPackageTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr[-2000:])
         self.assertIn(r.stdout.strip(), files)
 
+    def test_8_python_module(self):
+        if "python3-rfsitl" not in self.packages:
+            self.skipTest("python3-rfsitl was not built (pybind11-dev missing)")
+        files = set(self.listed["python3-rfsitl"])
+        code = ("import rfsitl\n"
+                "emu = rfsitl.Emulator('/usr/share/rfsitl/scenarios/six_uav_batch.yaml')\n"
+                "emu.run_for(1.0)\n"
+                "print(rfsitl.__file__, int(emu.counters()['delivered'].sum()))")
+        r = self.user(["/usr/bin/python3", "-c", code], timeout=300)
+        self.assertEqual(r.returncode, 0, r.stderr[-2000:])
+        path, delivered = r.stdout.split()
+        self.assertIn(path, files)
+        self.assertTrue(path.startswith("/usr/lib/python3/dist-packages/rfsitl/"), path)
+        self.assertGreater(int(delivered), 0)
+
     def test_9_purge_leaves_nothing(self):
         self.purge()
         self.assertEqual(self.purge_result.returncode, 0, self.purge_result.stderr)

@@ -18,7 +18,7 @@ import subprocess
 import time
 import unittest
 
-from harness import LOSS_REASONS, Emulator, assert_accounted
+from harness import BIN, LOSS_REASONS, Emulator, assert_accounted
 
 TICK = 250
 SLOW = ("--speed", "0.05", "--tick", str(TICK))
@@ -216,7 +216,8 @@ class TraceTest(unittest.TestCase):
         self.assertEqual(g["core:sample_rate"], fs)
         self.assertEqual(g["core:version"], "1.0.0")
         self.assertEqual(g["core:num_channels"], 1)
-        self.assertEqual(g["core:recorder"], "rfsitl")
+        version = subprocess.run([BIN, "--version"], capture_output=True, text=True).stdout
+        self.assertEqual(g["core:recorder"], version.strip())  # "rfsitl <version>"
         self.assertEqual(g["rfsitl:node_id"], node_id)
         self.assertFalse(g["rfsitl:truncated"])
         # The window covers the whole run: every sample the run had.

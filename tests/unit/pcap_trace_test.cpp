@@ -5,6 +5,7 @@
 #include <pcap/pcap.h>
 #include <unistd.h>
 #include "frame_event_builder.hpp"
+#include "rfsitl/common/build_version.hpp"
 #include "temp_dir.hpp"
 
 #include <atomic>
@@ -271,7 +272,7 @@ TEST(PcapTrace, EveryEventIsOneRadiotap80211PacketThatLibpcapReads) {
   EXPECT_EQ(raw.block_types[1], 1U);
   EXPECT_EQ(raw.link_type, 127);
   EXPECT_EQ(raw.tsresol, 9);
-  EXPECT_EQ(raw.shb_userappl, "rfsitl");
+  EXPECT_EQ(raw.shb_userappl, std::string("rfsitl ") + build_version());
   const auto pos = raw.shb_comment.find("epoch_offset_s=");
   ASSERT_NE(pos, std::string::npos) << raw.shb_comment;
   const std::int64_t offset = std::stoll(raw.shb_comment.substr(pos + 15));

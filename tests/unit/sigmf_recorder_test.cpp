@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 #include "frame_event_builder.hpp"
+#include "rfsitl/common/build_version.hpp"
 #include "temp_dir.hpp"
 
 #include <atomic>
@@ -169,7 +170,7 @@ TEST(SigmfRecorder, RecordsTheWindowWithEveryFrameOnTheAirAnnotated) {
   EXPECT_EQ(g.at("core:sample_rate"), 1e6);
   EXPECT_EQ(g.at("core:version"), "1.0.0");
   EXPECT_EQ(g.at("core:num_channels"), 1);
-  EXPECT_EQ(g.at("core:recorder"), "rfsitl");
+  EXPECT_EQ(g.at("core:recorder"), std::string("rfsitl ") + build_version());
   EXPECT_NE(g.at("core:description").get<std::string>().find("node 2"), std::string::npos);
   EXPECT_EQ(g.at("core:extensions").at(0).at("name"), "rfsitl");
   EXPECT_EQ(g.at("rfsitl:node_id"), 2);
