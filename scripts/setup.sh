@@ -2,7 +2,20 @@
 # Installs everything rfsitl needs from Debian 12's packages, then builds and
 # installs our GNU Radio blocks. Idempotent: when every package is present and
 # the blocks are up to date it returns at once without touching apt.
+#   bash scripts/setup.sh          everything: the tests, GNU Radio, SoapySDR, MPI, ...
+#   bash scripts/setup.sh --demo   only what the program and the demo need
 set -euo pipefail
+
+# What building the program and running the demo (scripts/demo.sh) need: a
+# fifth of the full list's download, and no GNU Radio blocks to build.
+DEMO_PACKAGES=(
+  build-essential cmake ninja-build ccache pkg-config
+  libliquid-dev libfec-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
+  libboost-dev libbenchmark-dev python3 python3-matplotlib python3-yaml
+)
+if [ "${1:-}" = "--demo" ]; then
+  exec bash "$(dirname "$0")/apt_install.sh" setup "${DEMO_PACKAGES[@]}"
+fi
 
 PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config clang-format
