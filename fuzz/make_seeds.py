@@ -149,6 +149,11 @@ for name in sorted(os.listdir(os.path.join(repo, 'scenarios'))):
     if name.endswith('.yaml'):
         os.makedirs(os.path.join(HERE, 'corpus', 'scenario'), exist_ok=True)
         shutil.copyfile(os.path.join(repo, 'scenarios', name), os.path.join(HERE, 'corpus', 'scenario', name))
+# ... and a few as JSON documents (the Python module's dicts: scenario_from_json)
+import yaml  # noqa: E402
+for name in ('six_uav_batch.yaml', 'wifi_multipath.yaml'):
+    with open(os.path.join(repo, 'scenarios', name)) as f:
+        w('scenario', name.replace('.yaml', '.json'), json.dumps(yaml.safe_load(f)))
 
 
 # vehicle_link: [settings][chunks of [len][dt tenths][bytes]] (vehicle_link_fuzzer.cpp),
