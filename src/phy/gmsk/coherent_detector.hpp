@@ -11,6 +11,8 @@
 /// gains are low: the quadrature interference of the neighbouring symbols also
 /// lands in Im z and must average out.
 #include <cstddef>
+#include <cstdint>
+#include <span>
 
 #include "rfsitl/common/types.hpp"
 
@@ -23,9 +25,12 @@ class CoherentDetector {
   /// matters) and `frequency` the carrier offset in radians per symbol.
   void start(cf32 gain, std::size_t first_index, float frequency);
 
-  /// Decides the next symbol from its matched-filter sample. Returns the bit
-  /// (0 for pseudo-symbol +1, 1 for -1) and writes z_s to `soft`.
-  unsigned decide(cf32 mf, cf32& soft);
+  /// Decides the next mf.size() symbols from their matched-filter samples:
+  /// writes each bit (0 for pseudo-symbol +1, 1 for -1) to bits[i] and z_s to
+  /// soft[i]. The loop is one long dependency chain (each symbol's decision
+  /// turns the equaliser of the next), so it is a loop over a block with the
+  /// state in registers rather than a call per symbol.
+  void decide(std::span<const cf32> mf, cf32* soft, std::uint8_t* bits);
 
  private:
   static constexpr float kPhaseGain = 0.02F;
