@@ -25,7 +25,7 @@ FrameReceiver::FrameReceiver(const GmskPulse& pulse, std::size_t max_payload_byt
             SyncCorrelator::kMaxBlock),
       delayed_(period_samples_),
       window_(SyncCorrelator::kMaxBlock + pulse.c0.size() - 1),
-      mf_(std::max(SyncCorrelator::kMaxBlock, kSymbolBlock)),
+      mf_(SyncCorrelator::kMaxBlock),
       bits_(kSymbolBlock),
       detector_(k_),
       sync_(k_, kernels),
@@ -231,14 +231,15 @@ void FrameReceiver::demodulate_until(std::uint64_t t, RxHandler& handler) {
 }
 
 void FrameReceiver::demodulate_symbols(std::size_t count, RxHandler& handler) {
-  // The filter outputs first (independent of each other), then the decisions
-  // (one dependency chain), then the bits. Precondition: count <=
-  // symbols_to_boundary(), so that only the last bit can end the header or payload.
-  for (std::size_t q = 0; q < count; ++q) {
-    mf_[q] = ring_.filter(next_symbol_time_ + q * k_, c0_.data(), c0_.size());
-  }
+  // The filter (independent of the decisions) inside the decision loop, so
+  // that it runs in the shadow of the loop's dependency chain; then the bits.
+  // Precondition: count <= symbols_to_boundary(), so that only the last bit
+  // can end the header or payload.
+  const std::uint64_t t0 = next_symbol_time_;
   cf32* soft = soft_.data() + symbols_done_;
-  coherent_.decide({mf_.data(), count}, soft, bits_.data());
+  coherent_.decide(
+      count, [&](std::size_t q) { return ring_.filter(t0 + q * k_, c0_.data(), c0_.size()); }, soft,
+      bits_.data());
   for (std::size_t q = 0; q < count; ++q) {
     const float e = std::abs(soft[q].real()) - 1.0F;
     error_energy_ += e * e;

@@ -99,7 +99,7 @@ class FrameReceiver {
   SampleRing ring_;
   std::vector<cf32> delayed_;       // scratch: the D samples before a block
   std::vector<cf32> window_;        // scratch: a search block's samples and the filter's reach
-  std::vector<cf32> mf_;            // scratch: matched-filter outputs of a block
+  std::vector<cf32> mf_;            // scratch: matched-filter outputs of a search block
   std::vector<std::uint8_t> bits_;  // scratch: a block's decisions
   PreambleDetector detector_;
   SyncCorrelator sync_;
