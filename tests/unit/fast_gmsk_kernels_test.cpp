@@ -134,7 +134,7 @@ TEST(FastGmskKernels, ReceiversDecideAsTheScalarReferenceOnRandomFramesInNoise) 
   std::size_t valid = 0;
   std::size_t failed = 0;  // decodes that failed a CRC
   std::size_t frames = 0;
-  for (const unsigned k : {2U, 4U}) {
+  for (const unsigned k : {2U, 4U, 8U}) {
     FastGmskSettings s;
     s.samples_per_symbol = k;
     const gmsk::GmskPulse pulse = gmsk::make_gmsk_pulse(k, s.bandwidth_time, s.filter_span_symbols);

@@ -20,9 +20,10 @@ FrameReceiver::FrameReceiver(const GmskPulse& pulse, std::size_t max_payload_byt
       // The detector fires while its window is in the preamble, at most one
       // period after the preamble's end; the sync peak is a sync word later.
       search_horizon_((kSyncSymbols + 2 * kPreamblePeriodSymbols) * k_ + pulse.c0.size()),
-      // The search writes a block ahead of the sample it is at (scan_search).
-      ring_(replay_samples_ + pulse.c0.size() + period_samples_ + 4 * k_ +
-            SyncCorrelator::kMaxBlock),
+      // The ring holds what the replay, the filter and the detector look back
+      // on, and a block of symbols that demodulate_symbols() filters at once.
+      ring_(std::max(replay_samples_ + pulse.c0.size() + period_samples_ + 4 * k_,
+                     kSymbolBlock * k_ + pulse.c0.size())),
       delayed_(period_samples_),
       window_(SyncCorrelator::kMaxBlock + pulse.c0.size() - 1),
       mf_(SyncCorrelator::kMaxBlock),
@@ -113,11 +114,7 @@ std::size_t FrameReceiver::scan_idle(std::span<const cf32> in, std::size_t i, Rx
 
 std::size_t FrameReceiver::scan_search(std::span<const cf32> in, std::size_t i,
                                        RxHandler& handler) {
-  // A block goes into the ring at once (which has room for it beyond the
-  // history that the filters and the detector look back on), so that the
-  // matched filter and the correlator see the whole block.
   const std::size_t n = std::min(in.size() - i, SyncCorrelator::kMaxBlock);
-  ring_.put_block(now_, in.data() + i, n);
   return i + search(now_, n, in.data() + i, handler);
 }
 
@@ -135,20 +132,22 @@ void FrameReceiver::start_search(std::uint64_t t, std::uint64_t deadline, RxHand
 
 std::size_t FrameReceiver::search(std::uint64_t first, std::size_t n, const cf32* fresh,
                                   RxHandler& handler) {
-  // The samples of times first .. first + n - 1 (in the ring) through the
-  // search, block by block; `fresh` (null in a replay) are the same samples
-  // as new input, which the detector also takes. Returns the samples used:
-  // all of them, or those up to the one at which the search ended.
+  // The samples of times first .. first + n - 1 through the search, block by
+  // block: from the ring in a replay (fresh null), else new input (fresh[0 ..
+  // n)), which also goes to the ring and the detector as it is used. Returns
+  // the samples used: all of them, or those up to the one at which the
+  // search ended.
   for (std::size_t done = 0; done < n;) {
     const std::size_t m = std::min(n - done, SyncCorrelator::kMaxBlock);
     const std::uint64_t t0 = first + done;
-    filter_search_block(t0, m);
+    filter_search_block(t0, m, fresh != nullptr ? fresh + done : nullptr);
     sync_.push({mf_.data(), m});
     for (std::size_t j = 0; j < m; ++j) {
       const std::uint64_t t = t0 + j;
       bool preamble_seen = false;
       if (fresh != nullptr) {
         now_ = t + 1;
+        ring_.put(t, fresh[done + j]);
         preamble_seen = detector_.push(fresh[done + j], ring_.at(t - period_samples_));
       }
       if (!search_step(t, j, preamble_seen, handler)) return done + j + 1;
@@ -158,10 +157,16 @@ std::size_t FrameReceiver::search(std::uint64_t first, std::size_t n, const cf32
   return n;
 }
 
-void FrameReceiver::filter_search_block(std::uint64_t first, std::size_t n) {
-  // Output q is the filter over the len samples ending at time first + q.
+void FrameReceiver::filter_search_block(std::uint64_t first, std::size_t n, const cf32* fresh) {
+  // Output q is the filter over the len samples ending at time first + q: the
+  // len - 1 before `first` from the ring, then the block's own.
   const std::size_t len = c0_.size();
-  ring_.copy_out(first + 1 - len, n + len - 1, window_.data());
+  if (fresh != nullptr) {
+    ring_.copy_out(first + 1 - len, len - 1, window_.data());
+    std::copy_n(fresh, n, window_.data() + (len - 1));
+  } else {
+    ring_.copy_out(first + 1 - len, n + len - 1, window_.data());
+  }
   kernels_->matched_filter(reinterpret_cast<const float*>(window_.data()), c0_.data(), len, 2 * n,
                            reinterpret_cast<float*>(mf_.data()));
 }

@@ -74,7 +74,7 @@ class FrameReceiver {
   std::size_t scan_frame(std::span<const cf32> in, std::size_t i, RxHandler& handler);
   void start_search(std::uint64_t t, std::uint64_t deadline, RxHandler& handler);
   std::size_t search(std::uint64_t first, std::size_t n, const cf32* fresh, RxHandler& handler);
-  void filter_search_block(std::uint64_t first, std::size_t n);
+  void filter_search_block(std::uint64_t first, std::size_t n, const cf32* fresh);
   bool search_step(std::uint64_t t, std::size_t j, bool preamble_seen, RxHandler& handler);
   void lock(std::uint64_t t, RxHandler& handler);
   std::size_t symbols_to_boundary() const;
@@ -86,8 +86,9 @@ class FrameReceiver {
   void report(const FrameTag& tag, bool header_valid, bool payload_valid,
               std::span<const std::uint8_t> payload, RxHandler& handler);
 
-  /// Symbols decided per demodulate_symbols() call at most.
-  static constexpr std::size_t kSymbolBlock = 64;
+  /// Symbols decided per demodulate_symbols() call at most (small enough that
+  /// their samples fit the ring the search needs anyway, for k up to 8).
+  static constexpr std::size_t kSymbolBlock = 32;
 
   const ReceiverKernels* kernels_;
   unsigned k_;
