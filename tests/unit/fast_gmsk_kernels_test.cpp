@@ -108,23 +108,23 @@ class Recorder final : public RxHandler {
   std::vector<Decode> decodes;
 };
 
-/// Random frames (random payload sizes, gaps, carrier phases and small
-/// frequency offsets) at unit power in complex noise of `noise_power`.
+/// Random frames (random payload sizes, gaps and carrier phases) at unit
+/// power, all turned by a small frequency offset, in complex noise of `noise_power`.
 std::vector<cf32> random_air(unsigned k, double noise_power, std::uint32_t seed) {
   std::mt19937 rng(seed);
   auto tx = make(k);
-  std::vector<cf32> air(std::uniform_int_distribution<std::size_t>(0, 500)(rng));
+  std::vector<cf32> air;
+  std::size_t at = std::uniform_int_distribution<std::size_t>(0, 500)(rng);
   for (std::uint32_t f = 0; f < 10; ++f) {
     const std::size_t bytes = std::uniform_int_distribution<std::size_t>(0, 120)(rng);
-    const std::size_t len = tx->start_frame(FrameTag{1, 2, f}, make_payload(bytes, seed + f));
-    std::vector<cf32> frame(len);
-    tx->transmit(frame);
-    const float phase = std::uniform_real_distribution<float>(0.0F, 6.28F)(rng);
-    const float offset = std::uniform_real_distribution<float>(-2e-3F, 2e-3F)(rng);
-    for (std::size_t i = 0; i < len; ++i) {
-      air.push_back(frame[i] * std::polar(1.0F, phase + offset * static_cast<float>(i)));
-    }
-    air.resize(air.size() + std::uniform_int_distribution<std::size_t>(0, 600)(rng));
+    at += put_frame(*tx, FrameTag{1, 2, f}, make_payload(bytes, seed + f), air, at,
+                    std::uniform_real_distribution<float>(0.0F, 6.28F)(rng));
+    at += std::uniform_int_distribution<std::size_t>(0, 600)(rng);
+  }
+  air.resize(at);
+  const float offset = std::uniform_real_distribution<float>(-2e-3F, 2e-3F)(rng);
+  for (std::size_t i = 0; i < air.size(); ++i) {
+    air[i] *= std::polar(1.0F, offset * static_cast<float>(i));
   }
   add_noise(air, noise_power, seed + 100);
   return air;

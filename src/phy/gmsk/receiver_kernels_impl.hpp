@@ -11,6 +11,7 @@
 /// -ffp-contract=off so that no multiply and add fuse.
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 
 #include "receiver_kernels.hpp"
 
@@ -29,28 +30,11 @@ typedef float Vec4 __attribute__((vector_size(16)));
 typedef float Vec8 __attribute__((vector_size(32)));
 typedef float Vec16 __attribute__((vector_size(64)));
 
-template <std::size_t W>
-struct VecOf;
-template <>
-struct VecOf<1> {
-  using type = Vec1;
-};
-template <>
-struct VecOf<4> {
-  using type = Vec4;
-};
-template <>
-struct VecOf<8> {
-  using type = Vec8;
-};
-template <>
-struct VecOf<16> {
-  using type = Vec16;
-};
-
 /// W floats, one output per lane.
 template <std::size_t W>
-using Vec = typename VecOf<W>::type;
+using Vec =
+    std::conditional_t<W == 1, Vec1,
+                       std::conditional_t<W == 4, Vec4, std::conditional_t<W == 8, Vec8, Vec16>>>;
 
 template <std::size_t W>
 Vec<W> load(const float* p) {
