@@ -412,6 +412,17 @@ def main():
         p += [f"| {r['stage']} | {r['model']} | {fmt(bc.num(r['ns_per_link_sample']))} | "
               f"{fmt(bc.num(r['ns_per_link_update']), 1)} |" for r in stage_rows]
         p.append("")
+    rx_rows = bc.read_rows(os.path.join(out, "receiver_throughput.csv"))
+    if rx_rows:
+        p.append("## Receivers on one core (`receiver_throughput.csv`)\n")
+        p.append("Each PHY's receive path fed 250-sample ticks on one core (rfsitl_receiver_"
+                 "throughput): Msps of the thread's CPU time on unit-power noise and on 80-byte "
+                 "frames back to back with 200-sample gaps at 30 dB SNR; median of 5 runs.\n")
+        p += ["| PHY | noise [Msps] | with frames [Msps] | frames decoded |", "|---|---|---|---|"]
+        p += [f"| {r['phy']} | {fmt(bc.num(r['noise_msps']), 1)} | "
+              f"{fmt(bc.num(r['frames_msps']), 1)} | {r['decoded']}/{r['sent']} |"
+              for r in rx_rows]
+        p.append("")
     if mix_table(out):
         p.append("## Mixing kernel (`mix_kernel.csv`, `mix_kernel.png`)\n")
         p.append("channel::mix: one receiver, every input active; channel::mix_rows: N receivers "

@@ -3,13 +3,15 @@
 /// PHY's RX path consumes, on pure noise and on a stream full of frames (80-byte
 /// frames back to back with 200-sample gaps, 30 dB SNR). Median of 5 runs.
 ///
-///   rfsitl_receiver_throughput [--seconds S] [--only NAME]  (e.g. --only ofdm24, for perf)
+///   rfsitl_receiver_throughput [--seconds S] [--only NAME] [--csv FILE]
+///   (e.g. --only ofdm24, for perf; --csv writes the table as CSV, for bench/run_benchmarks.sh)
 #include <time.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -63,7 +65,18 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   std::string only;
   app.add_option("--only", only, "Measure only this row (gmsk, ofdm24, dsss-barker11, ...)");
+  std::string csv;
+  app.add_option("--csv", csv, "Also write the table to this CSV file");
   CLI11_PARSE(app, argc, argv);
+  std::ofstream table;
+  if (!csv.empty()) {
+    table.open(csv);
+    if (!table) {
+      std::fprintf(stderr, "rfsitl_receiver_throughput: cannot write %s\n", csv.c_str());
+      return 1;
+    }
+    table << "phy,noise_msps,frames_msps,decoded,sent\n";
+  }
   const auto n = static_cast<std::size_t>(seconds * 1e6);
 
   std::vector<std::pair<std::string, scenario::PhyChoice>> phys;
@@ -88,6 +101,10 @@ int main(int argc, char** argv) {
     const double on_frames = rate(phy, busy, &valid);
     std::printf("%-13s %16.2f %22.2f %5zu/%-5zu\n", name.c_str(), on_noise / 1e6, on_frames / 1e6,
                 valid, sent);
+    if (table.is_open()) {
+      table << name << "," << on_noise / 1e6 << "," << on_frames / 1e6 << "," << valid << ","
+            << sent << "\n";
+    }
   }
   return 0;
 }

@@ -8,8 +8,8 @@
 #   QUICK=1 bash bench/run_benchmarks.sh    # smoke run: fewer nodes, shorter stages
 #
 # Always: the air-time floor, one 80-byte frame + one 8-byte ack at 1 Msps (rfsitl_airtime).
-# Stages (STAGES="fig4 fig5 capacity capacity_fading ofdm_native ofdm_ip virtual mobility mix stage_cost
-# dashboard overload fading_per mac" by default, and ip; any subset):
+# Stages (STAGES="fig4 fig5 capacity capacity_fading ofdm_native ofdm_ip virtual receivers mobility mix
+# stage_cost dashboard overload fading_per mac" by default, and ip; any subset):
 #   fig4      Fig. 4 analogue: CDF of COUNT RTTs at N = 6, one curve per architecture
 #   fig5      Fig. 5 analogue: RTT mean/p10/p90 against N (ping node 1 <-> node N)
 #   capacity  every node pings a random other node once per second for CAP_SECONDS of
@@ -24,6 +24,8 @@
 #             packets) for the whole load, MAC OFDM_IP_MAC; adds iperf3's goodput, loss and
 #             jitter (root, iperf3; skipped with a message otherwise)
 #   virtual   simulated seconds per wall second, VIRT_NODES nodes, 1 frame/node/s
+#   receivers every PHY's receiver on one core: Msps of thread CPU time on noise and on
+#             back-to-back 80-byte frames (rfsitl_receiver_throughput, RX_SECONDS of signal)
 #   mobility  share of the wall time spent moving MOB_NODES random-waypoint nodes in
 #             virtual time, every node pinging a random node once a second (frame and
 #             scheduled answer), at 10 ms and 1 ms updates (rfsitl_mobility_share)
@@ -52,7 +54,7 @@
 #   OFDM_IP_NODES=8  OFDM_IP_KBPS=5000  OFDM_IP_MAC=none
 #   BIN=build/release/apps/rfsitl
 #   CAP_SECONDS=60  VIRT_NODES=15  VIRT_SECONDS=60  MOB_NODES=64  MOB_SECONDS=60,10
-#   MIX_SECONDS=0.2  OVL_SECONDS=60  FADING_FRAMES=20000  PORT_BASE=20000
+#   MIX_SECONDS=0.2  RX_SECONDS=1  OVL_SECONDS=60  FADING_FRAMES=20000  PORT_BASE=20000
 #   FIG4_ARCHS=inprocess  NO_BUILD=1 (skip setup and build)  PORT_STRIDE=1000  PORT_SLOTS=40
 # Every emulator binds 127.0.0.1, gets its own port range (PORT_BASE + PORT_STRIDE k) and is
 # always stopped (SIGINT, then SIGKILL after 30 s), also when this script fails.
@@ -63,13 +65,13 @@ T_START=$(date +%s)
 QUICK="${QUICK:-0}"
 if [ "$QUICK" = 1 ]; then
   D_COUNT=20 D_FIG5="2 3 6 10 15 32" D_CAP="8 16 32" D_CAPF="16 32" D_OFDM="2 8" D_CAP_S=15
-  D_VIRT_S=10 D_MIX_S=0.05
+  D_VIRT_S=10 D_MIX_S=0.05 D_RX_S=0.2
   D_DASH_S=5 D_MOB_S=10,5 D_OVL_S=15 D_FADING=2000 D_MAC_S=10
 else
   D_COUNT=100 D_FIG5="$(seq -s ' ' 2 15) 32 64" D_CAP="8 16 24 32 48 64 96 128 160" D_CAPF="32 48 64"
   D_OFDM="2 4 8 12"
   D_CAP_S=60
-  D_VIRT_S=60 D_MIX_S=0.2 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000 D_MAC_S=60
+  D_VIRT_S=60 D_MIX_S=0.2 D_RX_S=1 D_DASH_S=20 D_MOB_S=60,10 D_OVL_S=60 D_FADING=20000 D_MAC_S=60
 fi
 OUT="${OUT:-out/bench}"
 COUNT="${COUNT:-$D_COUNT}"
@@ -89,6 +91,7 @@ CAP_SECONDS="${CAP_SECONDS:-$D_CAP_S}"
 VIRT_NODES="${VIRT_NODES:-15}"
 VIRT_SECONDS="${VIRT_SECONDS:-$D_VIRT_S}"
 MIX_SECONDS="${MIX_SECONDS:-$D_MIX_S}"
+RX_SECONDS="${RX_SECONDS:-$D_RX_S}"
 MOB_NODES="${MOB_NODES:-64}"
 MOB_SECONDS="${MOB_SECONDS:-$D_MOB_S}"  # virtual seconds at 10 ms, at 1 ms
 PORT_BASE="${PORT_BASE:-20000}"
@@ -96,7 +99,7 @@ PORT_BASE="${PORT_BASE:-20000}"
 # must hold 10 ports per node: 200 is enough for 16 nodes).
 PORT_STRIDE="${PORT_STRIDE:-1000}"
 PORT_SLOTS="${PORT_SLOTS:-40}"
-STAGES="${STAGES-fig4 fig5 capacity capacity_fading ofdm_native ofdm_ip virtual mobility mix stage_cost dashboard overload fading_per mac}"  # empty: only the report
+STAGES="${STAGES-fig4 fig5 capacity capacity_fading ofdm_native ofdm_ip virtual receivers mobility mix stage_cost dashboard overload fading_per mac}"  # empty: only the report
 DASH_NODES="${DASH_NODES:-64}"
 DASH_SECONDS="${DASH_SECONDS:-$D_DASH_S}"
 OVL_SECONDS="${OVL_SECONDS:-$D_OVL_S}"
@@ -434,6 +437,12 @@ if stage virtual; then
       --fading rayleigh --csv "$OUT/virtual_speed.csv"
   done
   mark virtual
+fi
+
+if stage receivers; then
+  echo "== Receiver throughput on one core: $RX_SECONDS s of signal per measurement"
+  "$BENCH"/rfsitl_receiver_throughput --seconds "$RX_SECONDS" --csv "$OUT/receiver_throughput.csv"
+  mark receivers
 fi
 
 if stage mobility; then

@@ -8,67 +8,16 @@ namespace rfsitl::phy::gmsk {
 void CoherentDetector::start(cf32 gain, std::size_t first_index, float frequency) {
   const float g2 = std::norm(gain);
   if (g2 > 0.0F) {
-    eq_re_ = gain.real() / g2;
-    eq_im_ = -gain.imag() / g2;
+    state_.eq_re = gain.real() / g2;
+    state_.eq_im = -gain.imag() / g2;
   } else {
-    eq_re_ = 1.0F;
-    eq_im_ = 0.0F;
+    state_.eq_re = 1.0F;
+    state_.eq_im = 0.0F;
   }
-  magnitude2_ = eq_re_ * eq_re_ + eq_im_ * eq_im_;
-  frequency_ = frequency;
-  quarter_ = static_cast<unsigned>(first_index & 3U);
-  since_renormalised_ = 0;
-}
-
-unsigned CoherentDetector::decide(cf32 mf, cf32& soft) {
-  // Plain float arithmetic: std::complex's operator* checks for NaN and inf.
-  const float a = mf.real();
-  const float b = mf.imag();
-  float zr = a * eq_re_ - b * eq_im_;
-  float zi = a * eq_im_ + b * eq_re_;
-  // Multiply by j^-s exactly.
-  switch (quarter_) {
-    case 1: {
-      const float t = zr;
-      zr = zi;
-      zi = -t;
-      break;
-    }
-    case 2:
-      zr = -zr;
-      zi = -zi;
-      break;
-    case 3: {
-      const float t = zr;
-      zr = -zi;
-      zi = t;
-      break;
-    }
-    default:
-      break;
-  }
-  quarter_ = (quarter_ + 1) & 3U;
-  soft = {zr, zi};
-  // Im z times the decision is ~ the phase error in radians; clipped so that a
-  // noise spike cannot throw the loop. Branch-free: the data bit is random.
-  const float error = std::clamp(std::copysign(1.0F, zr) * zi, -1.0F, 1.0F);
-  frequency_ += kFrequencyGain * error;
-  const float turn = kPhaseGain * error + frequency_;
-  // Turn the equaliser by -turn: a rotation by cos ~ 1 - turn^2 / 2, sin ~ turn,
-  // whose magnitude is 1 + O(turn^4); restore |1 / G| now and then, to first
-  // order (x (3 - x^2) / 2 ~ x / |x| near |x| = 1), off the per-symbol path.
-  const float c = 1.0F - 0.5F * turn * turn;
-  const float nr = eq_re_ * c + eq_im_ * turn;
-  const float ni = eq_im_ * c - eq_re_ * turn;
-  eq_re_ = nr;
-  eq_im_ = ni;
-  if (++since_renormalised_ == 32) {
-    since_renormalised_ = 0;
-    const float fix = 1.5F - 0.5F * (nr * nr + ni * ni) / magnitude2_;
-    eq_re_ *= fix;
-    eq_im_ *= fix;
-  }
-  return std::signbit(zr) ? 1U : 0U;
+  state_.magnitude2 = state_.eq_re * state_.eq_re + state_.eq_im * state_.eq_im;
+  state_.frequency = frequency;
+  state_.quarter = static_cast<unsigned>(first_index & 3U);
+  state_.since_renormalised = 0;
 }
 
 }  // namespace rfsitl::phy::gmsk

@@ -7,8 +7,10 @@
 
 namespace rfsitl::phy::gmsk {
 
-FrameReceiver::FrameReceiver(const GmskPulse& pulse, std::size_t max_payload_bytes)
-    : k_(pulse.samples_per_symbol),
+FrameReceiver::FrameReceiver(const GmskPulse& pulse, std::size_t max_payload_bytes,
+                             const ReceiverKernels& kernels)
+    : kernels_(&kernels),
+      k_(pulse.samples_per_symbol),
       max_payload_(max_payload_bytes),
       c0_(pulse.c0),
       period_samples_(static_cast<unsigned>(kPreamblePeriodSymbols) * k_),
@@ -18,10 +20,16 @@ FrameReceiver::FrameReceiver(const GmskPulse& pulse, std::size_t max_payload_byt
       // The detector fires while its window is in the preamble, at most one
       // period after the preamble's end; the sync peak is a sync word later.
       search_horizon_((kSyncSymbols + 2 * kPreamblePeriodSymbols) * k_ + pulse.c0.size()),
-      ring_(replay_samples_ + pulse.c0.size() + period_samples_ + 4 * k_),
+      // The ring holds what the replay, the filter and the detector look back
+      // on, and a block of symbols that demodulate_symbols() filters at once.
+      ring_(std::max(replay_samples_ + pulse.c0.size() + period_samples_ + 4 * k_,
+                     kSymbolBlock * k_ + pulse.c0.size())),
       delayed_(period_samples_),
+      window_(SyncCorrelator::kMaxBlock + pulse.c0.size() - 1),
+      mf_(SyncCorrelator::kMaxBlock),
+      bits_(kSymbolBlock),
       detector_(k_),
-      sync_(k_),
+      sync_(k_, kernels),
       payload_(max_payload_bytes + kPayloadCrcBytes),
       soft_(8 * (kHeaderBytes + max_payload_bytes + kPayloadCrcBytes)) {}
 
@@ -44,28 +52,31 @@ void FrameReceiver::push(std::span<const cf32> in, RxHandler& handler) {
       case State::kPayload:
         i = scan_frame(in, i, handler);
         break;
-      case State::kSearch: {
-        const cf32 x = in[i++];
-        const std::uint64_t t = now_++;
-        ring_.put(t, x);
-        step(t, detector_.push(x, ring_.at(t - period_samples_)), handler);
+      case State::kSearch:
+        i = scan_search(in, i, handler);
         break;
-      }
     }
   }
 }
 
 std::size_t FrameReceiver::scan_frame(std::span<const cf32> in, std::size_t i, RxHandler& handler) {
-  // Inside a frame: store the samples up to the next symbol's matched-filter
-  // time, then decide that symbol. During the header the detector keeps
-  // running (the lock may be false); during the payload it rests.
-  const State state = state_;
+  // Inside a frame: store the samples up to the last symbol whose
+  // matched-filter time the block reaches (not past the header's or the
+  // payload's end), then decide those symbols. During the header the detector
+  // keeps running (the lock may be false); during the payload it rests.
   const std::size_t n = in.size();
-  while (i < n) {
-    const auto take =
-        static_cast<std::size_t>(std::min<std::uint64_t>(next_symbol_time_ + 1 - now_, n - i));
+  while (i < n && (state_ == State::kHeader || state_ == State::kPayload)) {
+    const std::uint64_t last = now_ + (n - i) - 1;
+    std::size_t count = 0;
+    if (next_symbol_time_ <= last) {
+      count = static_cast<std::size_t>(std::min<std::uint64_t>(
+          (last - next_symbol_time_) / k_ + 1, std::min(symbols_to_boundary(), kSymbolBlock)));
+    }
+    const std::size_t take =
+        count > 0 ? static_cast<std::size_t>(next_symbol_time_ + (count - 1) * k_ + 1 - now_)
+                  : n - i;
     const cf32* x = in.data() + i;
-    if (state == State::kHeader) {
+    if (state_ == State::kHeader) {
       for (std::size_t j = 0; j < take; ++j) {
         const std::uint64_t t = now_ + j;
         ring_.put(t, x[j]);
@@ -79,9 +90,7 @@ std::size_t FrameReceiver::scan_frame(std::span<const cf32> in, std::size_t i, R
     }
     now_ += take;
     i += take;
-    if (now_ <= next_symbol_time_) break;  // the block ended first
-    demodulate_symbol(handler);
-    if (state_ != state) break;
+    if (count > 0) demodulate_symbols(count, handler);
   }
   return i;
 }
@@ -103,57 +112,90 @@ std::size_t FrameReceiver::scan_idle(std::span<const cf32> in, std::size_t i, Rx
   return i + used;
 }
 
+std::size_t FrameReceiver::scan_search(std::span<const cf32> in, std::size_t i,
+                                       RxHandler& handler) {
+  const std::size_t n = std::min(in.size() - i, SyncCorrelator::kMaxBlock);
+  return i + search(now_, n, in.data() + i, handler);
+}
+
 void FrameReceiver::start_search(std::uint64_t t, std::uint64_t deadline, RxHandler& handler) {
   state_ = State::kSearch;
   deadline_ = deadline;
   candidate_ = false;
   sync_.reset();
   // Replay the recent past through the search (and, if it locks there, the
-  // demodulator); the ring still holds it.
+  // demodulator, up to t); the ring still holds it.
   const std::uint64_t from = t + 1 >= replay_samples_ ? t + 1 - replay_samples_ : 0;
-  for (std::uint64_t u = from; u <= t && state_ != State::kIdle; ++u) step(u, false, handler);
+  search(from, static_cast<std::size_t>(t + 1 - from), nullptr, handler);
+  demodulate_until(t, handler);
 }
 
-void FrameReceiver::step(std::uint64_t t, bool preamble_seen, RxHandler& handler) {
-  switch (state_) {
-    case State::kSearch: {
-      if (preamble_seen) deadline_ = std::max(deadline_, t + search_horizon_);
-      const float rho = sync_.push(ring_.filter(t, c0_.data(), c0_.size()));
-      if (!candidate_) {
-        if (rho >= kSyncThreshold) {
-          candidate_ = true;
-          best_rho_ = rho;
-          best_gain_ = sync_.gain();
-          best_preamble_gain_ = sync_.preamble_gain();
-          best_time_ = t;
-          candidate_end_ = t + k_;
-        } else if (t >= deadline_) {
-          state_ = State::kIdle;  // the detector has kept running: no reset
-        }
-      } else {
-        if (rho > best_rho_) {
-          best_rho_ = rho;
-          best_gain_ = sync_.gain();
-          best_preamble_gain_ = sync_.preamble_gain();
-          best_time_ = t;
-        }
-        if (t >= candidate_end_) lock(t, handler);
+std::size_t FrameReceiver::search(std::uint64_t first, std::size_t n, const cf32* fresh,
+                                  RxHandler& handler) {
+  // The samples of times first .. first + n - 1 through the search, block by
+  // block: from the ring in a replay (fresh null), else new input (fresh[0 ..
+  // n)), which also goes to the ring and the detector as it is used. Returns
+  // the samples used: all of them, or those up to the one at which the
+  // search ended.
+  for (std::size_t done = 0; done < n;) {
+    const std::size_t m = std::min(n - done, SyncCorrelator::kMaxBlock);
+    const std::uint64_t t0 = first + done;
+    filter_search_block(t0, m, fresh != nullptr ? fresh + done : nullptr);
+    sync_.push({mf_.data(), m});
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::uint64_t t = t0 + j;
+      bool preamble_seen = false;
+      if (fresh != nullptr) {
+        now_ = t + 1;
+        ring_.put(t, fresh[done + j]);
+        preamble_seen = detector_.push(fresh[done + j], ring_.at(t - period_samples_));
       }
-      break;
+      if (!search_step(t, j, preamble_seen, handler)) return done + j + 1;
     }
-    case State::kHeader:
-      if (preamble_seen) {
-        preamble_during_header_ = true;
-        last_preamble_ = t;
-      }
-      demodulate_until(t, handler);
-      break;
-    case State::kPayload:
-      demodulate_until(t, handler);
-      break;
-    case State::kIdle:
-      break;
+    done += m;
   }
+  return n;
+}
+
+void FrameReceiver::filter_search_block(std::uint64_t first, std::size_t n, const cf32* fresh) {
+  // Output q is the filter over the len samples ending at time first + q: the
+  // len - 1 before `first` from the ring, then the block's own.
+  const std::size_t len = c0_.size();
+  if (fresh != nullptr) {
+    ring_.copy_out(first + 1 - len, len - 1, window_.data());
+    std::copy_n(fresh, n, window_.data() + (len - 1));
+  } else {
+    ring_.copy_out(first + 1 - len, n + len - 1, window_.data());
+  }
+  kernels_->matched_filter(reinterpret_cast<const float*>(window_.data()), c0_.data(), len, 2 * n,
+                           reinterpret_cast<float*>(mf_.data()));
+}
+
+bool FrameReceiver::search_step(std::uint64_t t, std::size_t j, bool preamble_seen,
+                                RxHandler& handler) {
+  if (preamble_seen) deadline_ = std::max(deadline_, t + search_horizon_);
+  const float rho = sync_.rho(j);
+  if (!candidate_) {
+    if (rho >= kSyncThreshold) {
+      candidate_ = true;
+      best_rho_ = rho;
+      best_gain_ = sync_.gain(j);
+      best_preamble_gain_ = sync_.preamble_gain(j);
+      best_time_ = t;
+      candidate_end_ = t + k_;
+    } else if (t >= deadline_) {
+      state_ = State::kIdle;  // the detector has kept running: no reset
+    }
+  } else {
+    if (rho > best_rho_) {
+      best_rho_ = rho;
+      best_gain_ = sync_.gain(j);
+      best_preamble_gain_ = sync_.preamble_gain(j);
+      best_time_ = t;
+    }
+    if (t >= candidate_end_) lock(t, handler);
+  }
+  return state_ == State::kSearch;
 }
 
 void FrameReceiver::lock(std::uint64_t t, RxHandler& handler) {
@@ -178,20 +220,38 @@ void FrameReceiver::lock(std::uint64_t t, RxHandler& handler) {
   demodulate_until(t, handler);
 }
 
+std::size_t FrameReceiver::symbols_to_boundary() const {
+  const std::size_t bytes =
+      state_ == State::kHeader ? kHeaderBytes : frame_header_.payload_bytes + kPayloadCrcBytes;
+  return (bytes - bytes_done_) * 8 - bit_in_byte_;
+}
+
 void FrameReceiver::demodulate_until(std::uint64_t t, RxHandler& handler) {
   while (next_symbol_time_ <= t && (state_ == State::kHeader || state_ == State::kPayload)) {
-    demodulate_symbol(handler);
+    demodulate_symbols(
+        static_cast<std::size_t>(std::min<std::uint64_t>(
+            (t - next_symbol_time_) / k_ + 1, std::min(symbols_to_boundary(), kSymbolBlock))),
+        handler);
   }
 }
 
-void FrameReceiver::demodulate_symbol(RxHandler& handler) {
-  cf32 z;
-  const unsigned bit = coherent_.decide(ring_.filter(next_symbol_time_, c0_.data(), c0_.size()), z);
-  soft_[symbols_done_++] = z;
-  const float e = std::abs(z.real()) - 1.0F;
-  error_energy_ += e * e;
-  next_symbol_time_ += k_;
-  on_bit(bit, handler);
+void FrameReceiver::demodulate_symbols(std::size_t count, RxHandler& handler) {
+  // The filter (independent of the decisions) inside the decision loop, so
+  // that it runs in the shadow of the loop's dependency chain; then the bits.
+  // Precondition: count <= symbols_to_boundary(), so that only the last bit
+  // can end the header or payload.
+  const std::uint64_t t0 = next_symbol_time_;
+  cf32* soft = soft_.data() + symbols_done_;
+  coherent_.decide(
+      count, [&](std::size_t q) { return ring_.filter(t0 + q * k_, c0_.data(), c0_.size()); }, soft,
+      bits_.data());
+  for (std::size_t q = 0; q < count; ++q) {
+    const float e = std::abs(soft[q].real()) - 1.0F;
+    error_energy_ += e * e;
+    ++symbols_done_;
+    next_symbol_time_ += k_;
+    on_bit(bits_[q], handler);
+  }
 }
 
 void FrameReceiver::on_bit(unsigned bit, RxHandler& handler) {

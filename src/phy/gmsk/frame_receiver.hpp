@@ -17,6 +17,13 @@
 ///            searched for
 ///   payload  one matched-filter sample per symbol and nothing else
 ///
+/// The work goes block by block where the decisions allow it, with the same
+/// results as sample by sample: the search computes the matched filter and
+/// the sync correlation for a block of samples at once (vectorised across
+/// samples, receiver_kernels.hpp) and then walks them; inside a frame, the
+/// symbols a block completes are filtered and then decided in one loop
+/// (never past the header's or the payload's end, where the state changes).
+///
 /// Decodes are reported through RxHandler: header_valid false after a sync
 /// word whose header fails its CRC-16; header_valid true with payload_valid
 /// false/true after the payload CRC-32 (or at once if the announced payload is
@@ -39,6 +46,7 @@
 #include "frame_format.hpp"
 #include "gmsk_pulse.hpp"
 #include "preamble_detector.hpp"
+#include "receiver_kernels.hpp"
 #include "rfsitl/phy/transceiver.hpp"
 #include "sample_ring.hpp"
 #include "sync_correlator.hpp"
@@ -50,7 +58,9 @@ class FrameReceiver {
   /// Normalised sync correlation that starts a lock (see sync_correlator.hpp).
   static constexpr float kSyncThreshold = 0.4F;
 
-  FrameReceiver(const GmskPulse& pulse, std::size_t max_payload_bytes);
+  /// `kernels`: which version of the inner loops to run (the tests compare them).
+  FrameReceiver(const GmskPulse& pulse, std::size_t max_payload_bytes,
+                const ReceiverKernels& kernels = fastest_kernels());
 
   void push(std::span<const cf32> in, RxHandler& handler);
   void reset();
@@ -60,18 +70,27 @@ class FrameReceiver {
   enum class State { kIdle, kSearch, kHeader, kPayload };
 
   std::size_t scan_idle(std::span<const cf32> in, std::size_t i, RxHandler& handler);
+  std::size_t scan_search(std::span<const cf32> in, std::size_t i, RxHandler& handler);
   std::size_t scan_frame(std::span<const cf32> in, std::size_t i, RxHandler& handler);
-  void step(std::uint64_t t, bool preamble_seen, RxHandler& handler);
   void start_search(std::uint64_t t, std::uint64_t deadline, RxHandler& handler);
+  std::size_t search(std::uint64_t first, std::size_t n, const cf32* fresh, RxHandler& handler);
+  void filter_search_block(std::uint64_t first, std::size_t n, const cf32* fresh);
+  bool search_step(std::uint64_t t, std::size_t j, bool preamble_seen, RxHandler& handler);
   void lock(std::uint64_t t, RxHandler& handler);
+  std::size_t symbols_to_boundary() const;
   void demodulate_until(std::uint64_t t, RxHandler& handler);
-  void demodulate_symbol(RxHandler& handler);
+  void demodulate_symbols(std::size_t count, RxHandler& handler);
   void on_bit(unsigned bit, RxHandler& handler);
   void finish_header(RxHandler& handler);
   void finish_payload(RxHandler& handler);
   void report(const FrameTag& tag, bool header_valid, bool payload_valid,
               std::span<const std::uint8_t> payload, RxHandler& handler);
 
+  /// Symbols decided per demodulate_symbols() call at most (small enough that
+  /// their samples fit the ring the search needs anyway, for k up to 8).
+  static constexpr std::size_t kSymbolBlock = 32;
+
+  const ReceiverKernels* kernels_;
   unsigned k_;
   std::size_t max_payload_;
   std::vector<float> c0_;
@@ -79,7 +98,10 @@ class FrameReceiver {
   std::uint64_t replay_samples_;  // looked at again when a search starts
   std::uint64_t search_horizon_;  // how long a search outlives the last detection
   SampleRing ring_;
-  std::vector<cf32> delayed_;  // scratch: the D samples before a block
+  std::vector<cf32> delayed_;       // scratch: the D samples before a block
+  std::vector<cf32> window_;        // scratch: a search block's samples and the filter's reach
+  std::vector<cf32> mf_;            // scratch: matched-filter outputs of a search block
+  std::vector<std::uint8_t> bits_;  // scratch: a block's decisions
   PreambleDetector detector_;
   SyncCorrelator sync_;
   CoherentDetector coherent_;

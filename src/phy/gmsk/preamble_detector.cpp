@@ -40,6 +40,7 @@ void PreambleDetector::reset() {
   acc_re_ = acc_im_ = acc_e_ = 0.0F;
   block_r_.fill(cf32{});
   block_e_.fill(0.0F);
+  newest_ = 0;
   blocks_seen_ = 0;
   last_metric_ = 0.0F;
 }
@@ -135,10 +136,12 @@ std::size_t PreambleDetector::scan_ungrouped(const cf32* x, const cf32* delayed,
 }
 
 bool PreambleDetector::end_block() {
-  std::copy_backward(block_r_.begin(), block_r_.end() - 1, block_r_.end());
-  std::copy_backward(block_e_.begin(), block_e_.end() - 1, block_e_.end());
-  block_r_[0] = {acc_re_, acc_im_};
-  block_e_[0] = acc_e_;
+  // The oldest entry makes room for the newest (no shifting: a copy of the
+  // arrays stalls the loads that follow it).
+  constexpr unsigned kRing = kWindowBlocks + 1;
+  newest_ = newest_ == 0 ? kRing - 1 : newest_ - 1;
+  block_r_[newest_] = {acc_re_, acc_im_};
+  block_e_[newest_] = acc_e_;
   acc_re_ = acc_im_ = acc_e_ = 0.0F;
   in_block_ = 0;
   if (blocks_seen_ <= kWindowBlocks) {
@@ -148,10 +151,12 @@ bool PreambleDetector::end_block() {
   cf32 r{};
   float ea = 0.0F;
   for (unsigned b = 0; b < kWindowBlocks; ++b) {
-    r += block_r_[b];
-    ea += block_e_[b];
+    const unsigned at = newest_ + b < kRing ? newest_ + b : newest_ + b - kRing;
+    r += block_r_[at];
+    ea += block_e_[at];
   }
-  const float eb = ea - block_e_[0] + block_e_[kWindowBlocks];
+  const unsigned oldest = newest_ == 0 ? kRing - 1 : newest_ - 1;
+  const float eb = ea - block_e_[newest_] + block_e_[oldest];
   // A group sum of g samples has g times the power of one sample (noise) or
   // up to g^2 times (signal): g is the safe floor factor.
   const float floor = kSilencePower * static_cast<float>(kWindowBlocks * block_ * group_);

@@ -93,10 +93,12 @@ class PreambleDetector {
   float acc_re_ = 0.0F;  // sums over the current block
   float acc_im_ = 0.0F;
   float acc_e_ = 0.0F;
-  // Block sums, newest first: R over the last 4 blocks; energies over the last 5
-  // (Eb is Ea one block earlier).
-  std::array<cf32, kWindowBlocks> block_r_{};
+  // Block sums of the last 5 blocks, in rings whose newest entry is at
+  // newest_ (the b-th newest at newest_ + b, modulo 5): R over the last 4
+  // blocks; energies over the last 5 (Eb is Ea one block earlier).
+  std::array<cf32, kWindowBlocks + 1> block_r_{};
   std::array<float, kWindowBlocks + 1> block_e_{};
+  unsigned newest_ = 0;
   unsigned blocks_seen_ = 0;
   float last_metric_ = 0.0F;
 };

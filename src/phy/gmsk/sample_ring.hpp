@@ -36,6 +36,15 @@ class SampleRing {
   /// Precondition: t is one of the last size() times written.
   cf32 at(std::uint64_t t) const { return buf_[t & mask_]; }
 
+  /// Copies the samples of times t .. t + n - 1 to out[0 .. n), contiguous.
+  /// Precondition: n <= size() and they are among the last size() written.
+  void copy_out(std::uint64_t t, std::size_t n, cf32* out) const {
+    const std::size_t at = t & mask_;
+    const std::size_t first = std::min(n, buf_.size() - at);
+    std::copy_n(buf_.begin() + static_cast<std::ptrdiff_t>(at), first, out);
+    std::copy_n(buf_.begin(), n - first, out + first);
+  }
+
   /// sum_i taps[i] x[last - len + 1 + i]: a real filter whose window ends at
   /// time `last`. Precondition: len <= size() and the window was written.
   cf32 filter(std::uint64_t last, const float* taps, std::size_t len) const {

@@ -10,11 +10,15 @@ static_assert(kSyncSymbols == 32, "SyncCorrelator::kTaps must equal kSyncSymbols
 static_assert(kPreambleSymbols >= 32 && 32 % kPreamblePeriodSymbols == 0,
               "the 32 preamble symbols before the sync word start a period");
 
-SyncCorrelator::SyncCorrelator(unsigned samples_per_symbol)
-    : k_(samples_per_symbol),
-      re_(2 * kHistory * samples_per_symbol),
-      im_(2 * kHistory * samples_per_symbol),
-      pos_(samples_per_symbol) {
+SyncCorrelator::SyncCorrelator(unsigned samples_per_symbol, const ReceiverKernels& kernels)
+    : kernels_(&kernels),
+      k_(samples_per_symbol),
+      kept_((2 * kTaps - 1) * samples_per_symbol),
+      first_(kept_),
+      end_(kept_),
+      // Room for four blocks between moves.
+      re_(kept_ + 4 * kMaxBlock),
+      im_(kept_ + 4 * kMaxBlock) {
   // conj(j^i) c_i: j^-i is 1, -j, -1, j for i mod 4 = 0, 1, 2, 3. The preamble
   // symbols before the sync word have indices i - 32, the same modulo 4.
   static constexpr float kRe[4] = {1.0F, 0.0F, -1.0F, 0.0F};
@@ -30,68 +34,41 @@ SyncCorrelator::SyncCorrelator(unsigned samples_per_symbol)
 }
 
 void SyncCorrelator::reset() {
-  std::fill(re_.begin(), re_.end(), 0.0F);
-  std::fill(im_.begin(), im_.end(), 0.0F);
-  std::fill(pos_.begin(), pos_.end(), 0);
-  phase_ = 0;
-  last_x_ = last_y_ = nullptr;
-  gain_ = {};
+  std::fill_n(re_.begin(), kept_, 0.0F);
+  std::fill_n(im_.begin(), kept_, 0.0F);
+  first_ = end_ = kept_;
 }
 
-cf32 SyncCorrelator::correlate(const float* rr, const float* ri, const float* x, const float* y,
-                               float* energy) {
-  // (rr + j ri)(x + j y): real rr x - ri y, imaginary rr y + ri x. Eight
-  // independent lanes per sum, so the additions need no reassociation and the
-  // compiler can keep them in vector registers.
-  constexpr std::size_t kLanes = 8;
-  float cr[kLanes] = {};
-  float ci[kLanes] = {};
-  float en[kLanes] = {};
-  for (std::size_t i = 0; i < kTaps; i += kLanes) {
-    for (std::size_t l = 0; l < kLanes; ++l) {
-      const float xv = x[i + l];
-      const float yv = y[i + l];
-      cr[l] += rr[i + l] * xv - ri[i + l] * yv;
-      ci[l] += rr[i + l] * yv + ri[i + l] * xv;
-      en[l] += xv * xv + yv * yv;
-    }
+void SyncCorrelator::push(std::span<const cf32> mf) {
+  const std::size_t n = mf.size();
+  if (end_ + n > re_.size()) {
+    std::copy(re_.begin() + static_cast<std::ptrdiff_t>(end_ - kept_),
+              re_.begin() + static_cast<std::ptrdiff_t>(end_), re_.begin());
+    std::copy(im_.begin() + static_cast<std::ptrdiff_t>(end_ - kept_),
+              im_.begin() + static_cast<std::ptrdiff_t>(end_), im_.begin());
+    end_ = kept_;
   }
+  first_ = end_;
+  for (const cf32 v : mf) {
+    re_[end_] = v.real();
+    im_[end_] = v.imag();
+    ++end_;
+  }
+  // The sync word's window of the value at index p starts at p - (S - 1) k.
+  const std::size_t oldest = first_ - (kTaps - 1) * k_;
+  kernels_->correlate(&re_[oldest], &im_[oldest], k_, rr_.data(), ri_.data(), n, c_re_.data(),
+                      c_im_.data(), energy_.data());
+}
+
+cf32 SyncCorrelator::preamble_gain(std::size_t i) const {
+  // The preamble's window ends one symbol before the sync word's begins.
+  const std::size_t oldest = first_ + i - (2 * kTaps - 1) * k_;
   float c_re = 0.0F;
   float c_im = 0.0F;
-  float e = 0.0F;
-  for (std::size_t l = 0; l < kLanes; ++l) {
-    c_re += cr[l];
-    c_im += ci[l];
-    e += en[l];
-  }
-  *energy = e;
-  return {c_re, c_im};
-}
-
-float SyncCorrelator::push(cf32 mf) {
-  const std::size_t base = 2 * kHistory * phase_;
-  const std::size_t w = pos_[phase_];
-  re_[base + w] = re_[base + w + kHistory] = mf.real();
-  im_[base + w] = im_[base + w + kHistory] = mf.imag();
-  pos_[phase_] = w + 1 == kHistory ? 0 : w + 1;
-  phase_ = phase_ + 1 == k_ ? 0 : phase_ + 1;
-
-  // The last kHistory values oldest first; the sync word's window is the newer
-  // half (x[S - 1] is `mf`).
-  last_x_ = &re_[base + w + 1];
-  last_y_ = &im_[base + w + 1];
   float energy = 0.0F;
-  const cf32 c = correlate(rr_.data(), ri_.data(), last_x_ + kTaps, last_y_ + kTaps, &energy);
-  const float s = static_cast<float>(kTaps);
-  gain_ = c / s;
-  return energy > 0.0F ? std::norm(c) / (s * energy) : 0.0F;
-}
-
-cf32 SyncCorrelator::preamble_gain() const {
-  if (last_x_ == nullptr) return {};
-  float energy = 0.0F;
-  return correlate(pre_rr_.data(), pre_ri_.data(), last_x_, last_y_, &energy) /
-         static_cast<float>(kTaps);
+  reference_kernels().correlate(&re_[oldest], &im_[oldest], k_, pre_rr_.data(), pre_ri_.data(), 1,
+                                &c_re, &c_im, &energy);
+  return cf32{c_re, c_im} / static_cast<float>(kTaps);
 }
 
 }  // namespace rfsitl::phy::gmsk

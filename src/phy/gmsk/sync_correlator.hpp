@@ -14,55 +14,68 @@
 /// The same correlation over the 32 preamble symbols before the sync word
 /// (also known) gives a second gain G'; the phase from G' to G over their
 /// 32-symbol distance is the carrier frequency offset.
+///
+/// Values come in blocks: the correlations of a block's samples are
+/// independent of each other, so the kernels compute several at once (across
+/// samples, see receiver_kernels.hpp). Values before the last reset() count
+/// as zeros.
 #include <array>
 #include <cstddef>
-#include <cstdint>
 #include <vector>
 
+#include "receiver_kernels.hpp"
 #include "rfsitl/common/types.hpp"
 
 namespace rfsitl::phy::gmsk {
 
 class SyncCorrelator {
  public:
-  explicit SyncCorrelator(unsigned samples_per_symbol);
+  /// The most values one push() takes.
+  static constexpr std::size_t kMaxBlock = 64;
+
+  SyncCorrelator(unsigned samples_per_symbol, const ReceiverKernels& kernels);
 
   void reset();
 
-  /// Feeds the matched-filter output of the next sample; returns rho (0..1).
-  float push(cf32 mf);
+  /// Appends the matched-filter outputs of the next mf.size() samples and
+  /// correlates at each. Precondition: mf.size() <= kMaxBlock.
+  void push(std::span<const cf32> mf);
 
-  /// G = C / S for the window of the last push.
-  cf32 gain() const { return gain_; }
+  /// rho (0..1) at the i-th sample of the last push. Precondition: i below its size.
+  float rho(std::size_t i) const {
+    const float e = energy_[i];
+    const cf32 c{c_re_[i], c_im_[i]};
+    return e > 0.0F ? std::norm(c) / (static_cast<float>(kTaps) * e) : 0.0F;
+  }
 
-  /// G' for the window of the last push: the gain over the 32 preamble symbols
-  /// just before the sync word, were the sync word's last symbol there.
-  cf32 preamble_gain() const;
+  /// G = C / S at the i-th sample of the last push.
+  cf32 gain(std::size_t i) const { return cf32{c_re_[i], c_im_[i]} / static_cast<float>(kTaps); }
+
+  /// G' at the i-th sample of the last push: the gain over the 32 preamble
+  /// symbols just before the sync word, were the sync word's last symbol there.
+  cf32 preamble_gain(std::size_t i) const;
 
  private:
-  static constexpr std::size_t kTaps = 32;            // kSyncSymbols
-  static constexpr std::size_t kHistory = 2 * kTaps;  // preamble tail and sync word
+  static constexpr std::size_t kTaps = 32;  // kSyncSymbols
 
-  /// Dot product of (rr + j ri) with the window x + j y, over kTaps.
-  static cf32 correlate(const float* rr, const float* ri, const float* x, const float* y,
-                        float* energy);
-
+  const ReceiverKernels* kernels_;
   unsigned k_;
-  unsigned phase_ = 0;  // sample phase (t mod k) of the next input
-  cf32 gain_{};
-  const float* last_x_ = nullptr;  // window of the last push, oldest first
-  const float* last_y_ = nullptr;
-  // The reference conj(j^i c_i) = rr_i + j ri_i, as separate real arrays so
-  // that the correlation is four dot products the compiler can vectorise.
+  std::size_t kept_;   // older values a window reaches back to: 2 kTaps - 1 symbols
+  std::size_t first_;  // history index of the last push's first value
+  std::size_t end_;    // history index one past the newest value
+  // The reference conj(j^i c_i) = rr_i + j ri_i, as separate real arrays.
   std::array<float, kTaps> rr_{};
   std::array<float, kTaps> ri_{};
   std::array<float, kTaps> pre_rr_{};  // the same for the preamble's last 32 symbols
   std::array<float, kTaps> pre_ri_{};
-  // Per sample phase, the last kHistory matched-filter outputs (one per symbol),
-  // written twice (at w and w + kHistory) so that the window is contiguous.
-  std::vector<float> re_;  // k * 2 kHistory
+  // The matched-filter outputs, oldest first, re and im apart; when full, the
+  // last kept_ values move to the front.
+  std::vector<float> re_;
   std::vector<float> im_;
-  std::vector<std::size_t> pos_;  // per phase: next write index w in 0 .. kHistory - 1
+  // The last push's correlations.
+  std::array<float, kMaxBlock> c_re_{};
+  std::array<float, kMaxBlock> c_im_{};
+  std::array<float, kMaxBlock> energy_{};
 };
 
 }  // namespace rfsitl::phy::gmsk
