@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -192,8 +193,14 @@ CampaignOutcome run_campaign(const CampaignSpec& spec, const CampaignOptions& o)
   ChildPool pool(o.program, o.jobs, spec.timeout_s);
   std::size_t next = 0;
   report(0);
+  // The wait between polls: the caller's (it takes signals there) or a nap.
+  const auto stop_asked = [&o] {
+    if (o.interrupted) return o.interrupted();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return false;
+  };
   while (progress.done < to_run.size()) {
-    if (o.interrupted && o.interrupted()) {
+    if (stop_asked()) {
       pool.stop_all();
       outcome.interrupted = true;
       break;
