@@ -137,7 +137,8 @@ CampaignOutcome run_campaign(const CampaignSpec& spec, const CampaignOptions& o)
   Manifest manifest;
   if (fs::exists(outcome.manifest_path)) {
     try {
-      for (const auto& r : nlohmann::json::parse(read_text(outcome.manifest_path))["rows"]) {
+      const nlohmann::json earlier = nlohmann::json::parse(read_text(outcome.manifest_path));
+      for (const auto& r : earlier.at("rows")) {
         if (r.contains("wall_s")) manifest.wall_s[r["key"]] = r["wall_s"].get<double>();
       }
     } catch (const std::exception&) {
