@@ -150,6 +150,17 @@ for name in sorted(os.listdir(os.path.join(repo, 'scenarios'))):
         os.makedirs(os.path.join(HERE, 'corpus', 'scenario'), exist_ok=True)
         shutil.copyfile(os.path.join(repo, 'scenarios', name), os.path.join(HERE, 'corpus', 'scenario', name))
 
+# campaign: first byte even: a campaign file (the shipped examples and one of
+# every form); odd: a results table.
+for name in sorted(os.listdir(os.path.join(repo, 'examples', 'campaigns'))):
+    if name.endswith('.yaml'):
+        with open(os.path.join(repo, 'examples', 'campaigns', name), 'rb') as f:
+            w('campaign', name, b'\x00' + f.read())
+w('campaign', 'zip_and_list', b'\x00scenario: s.yaml\nsettings: {time.duration_s: 1}\n'
+  b'parameters:\n  a: [1, 2]\nzip:\n  - {b: [x, y], c: [3, 4]}\nseeds: [5, 9]\ntimeout_s: 10\n')
+w('campaign', 'table', b'\x01a,b,seed,scenario_hash,status,error,delivery_ratio,delivered\n'
+  b'1,x,5,0123456789abcdef,ok,,0.5,3\n"2,3",y,9,0123456789abcdef,failed,"exit code 2: ""x""",,\n')
+
 
 # vehicle_link: [settings][chunks of [len][dt tenths][bytes]] (vehicle_link_fuzzer.cpp),
 # frames from the spec-written test vehicle.
