@@ -166,12 +166,19 @@ int sweep(const SweepOptions& o) {
     return 2;
   }
   progress.end();
+  if (outcome.dropped > 0) {
+    std::printf(
+        "rfsitl sweep: %zu row(s) of the earlier table are not in this campaign's grid "
+        "(a value or the scenario changed) and were left out; their summaries stay in "
+        "runs/\n",
+        outcome.dropped);
+  }
   const campaign::CampaignProgress& p = outcome.progress;
   if (outcome.interrupted) {
     std::printf(
         "rfsitl sweep: %s: stopped; %zu of %zu rows in %s (run the same command to "
         "resume)\n",
-        received == SIGINT ? "SIGINT" : "SIGTERM", p.reused + p.done - p.running, p.total,
+        received == SIGINT ? "SIGINT" : "SIGTERM", p.reused + p.done, p.total,
         outcome.table_path.c_str());
     return 1;
   }

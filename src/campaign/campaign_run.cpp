@@ -162,13 +162,19 @@ CampaignOutcome run_campaign(const CampaignSpec& spec, const CampaignOptions& o)
   progress.total = plan.size();
   for (std::size_t i = 0; i < plan.size(); ++i) {
     const auto it = previous.find(row_of(plan[i]).identity());
-    if (it != previous.end() && !(o.retry_failed && it->second.status == kStatusFailed)) {
+    if (it == previous.end()) {
+      to_run.push_back(i);
+      continue;
+    }
+    if (o.retry_failed && it->second.status == kStatusFailed) {
+      to_run.push_back(i);
+    } else {
       rows[i] = it->second;
       ++progress.reused;
-    } else {
-      to_run.push_back(i);
     }
+    previous.erase(it);
   }
+  outcome.dropped = previous.size();
   const auto save = [&] {
     ResultsTable table{keys, {}};
     for (const auto& r : rows) {
@@ -177,7 +183,7 @@ CampaignOutcome run_campaign(const CampaignSpec& spec, const CampaignOptions& o)
     write_atomically(outcome.table_path, to_csv(table));
     write_atomically(outcome.manifest_path, manifest.text(plan, rows, o.program));
   };
-  save();  // rows of an earlier grid that this one no longer has are dropped here
+  save();
 
   const auto started = std::chrono::steady_clock::now();
   double run_seconds = 0.0;  // summed over finished runs, for the ETA

@@ -122,6 +122,18 @@ class SweepTest(unittest.TestCase):
         self.assertIn(f"{len(partial)} reused", r.stdout)
         self.assertEqual(read(table), self.table)
 
+    def test_a_changed_grid_reuses_its_rows_and_says_what_it_left_out(self):
+        campaign = self.other_campaign("noise.yaml")
+        self.assertEqual(sweep(campaign, "--jobs", "2").returncode, 0)
+        write(campaign, CAMPAIGN.format(timeout=300).replace("[-80, -60]", "[-80, -70]"))
+        r = sweep(campaign, "--jobs", "2")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("(3 run now, 0 failed, 3 reused)", r.stdout)
+        self.assertIn("3 row(s) of the earlier table are not in this campaign's grid", r.stdout)
+        rows = table_rows(os.path.join(os.path.dirname(campaign), "noise.results",
+                                       "results.csv"))
+        self.assertEqual([r["channel.noise_power_db"] for r in rows], ["-80"] * 3 + ["-70"] * 3)
+
     def test_a_manifest_command_reproduces_its_row(self):
         with open(os.path.join(self.results, "manifest.json")) as f:
             manifest = json.load(f)

@@ -43,6 +43,10 @@ struct CampaignOptions {
 struct CampaignOutcome {
   CampaignProgress progress;
   bool interrupted = false;
+  /// Rows of the table found at the start that this campaign's plan does not
+  /// hold (a value or the scenario changed since): left out of the new table
+  /// (their runs' summaries stay in runs/).
+  std::size_t dropped = 0;
   std::string table_path;
   std::string manifest_path;
 };
