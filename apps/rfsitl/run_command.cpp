@@ -35,6 +35,7 @@
 #include "rfsitl/scenario/scenario_loader.hpp"
 #include "rfsitl/session/session.hpp"
 #include "run_report.hpp"
+#include "stop_signals.hpp"
 
 namespace rfsitl::app {
 namespace {
@@ -396,11 +397,7 @@ int run(const RunOptions& o) {
   }
   // Signals are taken synchronously by this thread only; block them before the
   // ports' and the engine's threads exist so that every thread inherits the mask.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const sigset_t signals = block_stop_signals();
 
   const double stats_every = run.scenario().engine.stats_interval_s;
   double next_stats = stats_every;

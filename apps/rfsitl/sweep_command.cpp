@@ -21,6 +21,7 @@
 #include "rfsitl/campaign/metric_plot.hpp"
 #include "rfsitl/campaign/results_table.hpp"
 #include "rfsitl/campaign/run_plan.hpp"
+#include "stop_signals.hpp"
 
 namespace rfsitl::app {
 namespace {
@@ -138,11 +139,7 @@ int sweep(const SweepOptions& o) {
   }
   // Signals are taken here, between polls; the runs have process groups of
   // their own, so a Ctrl-C reaches only this process, which stops them.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const sigset_t signals = block_stop_signals();
   int received = 0;
   campaign::CampaignOptions options;
   options.jobs = o.jobs > 0 ? o.jobs : std::max(1U, std::thread::hardware_concurrency());
