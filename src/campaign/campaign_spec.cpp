@@ -178,10 +178,13 @@ CampaignSpec parse_campaign(std::string_view yaml_text, const std::string& sourc
   CampaignSpec c;
   c.source = source;
   std::set<std::string> seen;
+  std::set<std::string> sections;
   bool have_seeds = false;
   for (const auto& kv : root) {
     const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "?";
     const YAML::Node& v = kv.second;
+    // YAML keeps a repeated key; a second seeds: would add to the first.
+    if (!sections.insert(key).second) r.fail(Reader::line_of(kv.first), key, "given twice");
     if (key == "scenario") {
       c.scenario_path = resolve(folder, string_of(r, v, key));
       c.scenario_line = Reader::line_of(v);

@@ -85,6 +85,8 @@ TEST(CampaignGrid, ErrorsNameTheLineAndTheKey) {
             "c.yaml:4: a: a value must be a single value (a scalar)");
   EXPECT_EQ(error_of("scenario: s.yaml\nsede: 1\n").rfind("c.yaml:2: sede: unknown key", 0), 0U);
   EXPECT_EQ(error_of("seeds: 1\n"), "c.yaml: scenario: missing: the base scenario file");
+  // A repeated section: YAML keeps both; the second seeds: would add to the first.
+  EXPECT_EQ(error_of("scenario: s.yaml\nseeds: 2\nseeds: 2\n"), "c.yaml:3: seeds: given twice");
 }
 
 /// A campaign over a scenario file, both written into a temporary folder.
