@@ -155,6 +155,17 @@ for name in ('six_uav_batch.yaml', 'wifi_multipath.yaml'):
     with open(os.path.join(repo, 'scenarios', name)) as f:
         w('scenario', name.replace('.yaml', '.json'), json.dumps(yaml.safe_load(f)))
 
+# campaign: first byte even: a campaign file (the shipped examples and one of
+# every form); odd: a results table.
+for name in sorted(os.listdir(os.path.join(repo, 'examples', 'campaigns'))):
+    if name.endswith('.yaml'):
+        with open(os.path.join(repo, 'examples', 'campaigns', name), 'rb') as f:
+            w('campaign', name, b'\x00' + f.read())
+w('campaign', 'zip_and_list', b'\x00scenario: s.yaml\nsettings: {time.duration_s: 1}\n'
+  b'parameters:\n  a: [1, 2]\nzip:\n  - {b: [x, y], c: [3, 4]}\nseeds: [5, 9]\ntimeout_s: 10\n')
+w('campaign', 'table', b'\x01a,b,seed,scenario_hash,status,error,delivery_ratio,delivered\n'
+  b'1,x,5,0123456789abcdef,ok,,0.5,3\n"2,3",y,9,0123456789abcdef,failed,"exit code 2: ""x""",,\n')
+
 
 # vehicle_link: [settings][chunks of [len][dt tenths][bytes]] (vehicle_link_fuzzer.cpp),
 # frames from the spec-written test vehicle.

@@ -18,7 +18,7 @@ targets=("$@")
 [ ${#targets[@]} -gt 0 ] ||
   targets=(net_framing agent_control ethernet_frame location_parser scenario wire_protocol
            dashboard_http dashboard_ws mavlink_parser vehicle_link mobility_trace antenna_pattern
-           channel_trace tick_exchange live_view_share link_table)
+           channel_trace tick_exchange live_view_share link_table campaign)
 
 # clang-14 and libFuzzer (libclang_rt.fuzzer-x86_64.a comes with libclang-rt-14-dev
 # on Debian 12), plus the libraries the parsers build with.

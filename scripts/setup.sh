@@ -22,6 +22,8 @@ PACKAGES=(
   libliquid-dev libfec-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-yaml
+  # campaigns from Python (python/rfsitl/): the table as a DataFrame, Student t for its plots
+  python3-pandas python3-scipy
   # GNU Radio 3.10 and what our out-of-tree blocks (gr-rfsitl/) build with
   gnuradio gnuradio-dev pybind11-dev python3-dev
   # traces: libpcap to read pcapng back in tests, tshark to check Wireshark's view

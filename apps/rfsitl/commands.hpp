@@ -41,6 +41,10 @@ std::vector<std::string> plugin_folders();
 /// (<prefix>/share/rfsitl/scenarios): then that file's path.
 std::string scenario_file(const std::string& path);
 
+/// Registers `rfsitl sweep`: a campaign of runs (rfsitl/campaign/). `argc` and
+/// `argv` are the program's, for the manifest.
+std::function<int()> add_sweep_command(CLI::App& parent, int argc, char** argv);
+
 /// Registers `rfsitl mavlink-send`: stand-in MAVLink vehicles for --mavlink.
 std::function<int()> add_mavlink_send_command(CLI::App& parent);
 

@@ -30,14 +30,15 @@ int main(int argc, char** argv) {
   auto node = rfsitl::app::add_node_command(app);
   auto describe = rfsitl::app::add_describe_command(app);
   auto mavlink_send = rfsitl::app::add_mavlink_send_command(app);
+  auto sweep = rfsitl::app::add_sweep_command(app, argc, argv);
   auto man = rfsitl::app::add_man_command(app);
   auto completion = rfsitl::app::add_completion_command(app);
   // CLI11 would call an unknown command a missing one ("A subcommand is required").
   if (argc > 1 && argv[1][0] != '-' &&
       app.get_subcommands([&](CLI::App* c) { return c->check_name(argv[1]); }).empty()) {
-    std::cerr
-        << "rfsitl: unknown command '" << argv[1]
-        << "' (commands: run, ping, links, describe, node, mavlink-send; see rfsitl --help)\n";
+    std::cerr << "rfsitl: unknown command '" << argv[1]
+              << "' (commands: run, sweep, ping, links, describe, node, mavlink-send; see rfsitl "
+                 "--help)\n";
     return 2;
   }
   try {
@@ -61,6 +62,7 @@ int main(int argc, char** argv) {
   if (app.got_subcommand("node")) return node();
   if (app.got_subcommand("describe")) return describe();
   if (app.got_subcommand("mavlink-send")) return mavlink_send();
+  if (app.got_subcommand("sweep")) return sweep();
   if (app.got_subcommand("man")) return man();
   if (app.got_subcommand("completion")) return completion();
   return 2;

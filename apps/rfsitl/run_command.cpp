@@ -35,6 +35,7 @@
 #include "rfsitl/scenario/scenario_loader.hpp"
 #include "rfsitl/session/session.hpp"
 #include "run_report.hpp"
+#include "stop_signals.hpp"
 
 namespace rfsitl::app {
 namespace {
@@ -122,7 +123,9 @@ struct RunOptions {
   bool preflight = false;     ///< --preflight: measure, say, exit
   bool no_preflight = false;  ///< --no-preflight: no check at start
   bool ip = false;
+  bool no_ports = false;           ///< --no-ports: no socket at all
   std::optional<std::string> mac;  ///< --mac NAME
+  std::vector<std::string> set;    ///< --set KEY=VALUE, in order
   std::string summary_json;
   /// The position sources' flags (--mavlink ENDPOINT), as typed: one per
   /// source that declares one, in the registry's order.
@@ -171,6 +174,16 @@ session::SessionOptions session_options(const RunOptions& o) {
   if (o.shared_noise) so.settings.push_back({"channel.shared_noise", "true", "--shared-noise"});
   if (o.ip) so.settings.push_back({"ip.enabled", "true", "--ip"});
   if (o.mac) so.settings.push_back({"mac.type", *o.mac, "--mac"});
+  // Last: a --set names its key, so it may override any flag above.
+  for (const std::string& kv : o.set) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw std::runtime_error("--set " + kv + ": give it as KEY=VALUE, e.g. --set " +
+                               "channel.noise_power_db=-100");
+    }
+    so.settings.push_back({kv.substr(0, eq), kv.substr(eq + 1), "--set"});
+  }
+  so.ports = !o.no_ports;
   for (const auto& [source, value] : o.source_flags) {
     if (value) so.follow.push_back({source, *value});
   }
@@ -240,7 +253,12 @@ bool announce(session::Session& run, const sigset_t& signals) {
       served_by[i] = "rank " + std::to_string(r) +
                      (r < ranks.hosts.size() ? " (host " + ranks.hosts[r] + ")" : "");
     }
-    print_banner(s, sc, *run.sources(), engine, served_by);
+    if (run.sources() != nullptr) {
+      print_banner(s, sc, *run.sources(), engine, served_by);
+    } else {
+      std::printf("rfsitl: scenario '%s', %zu node(s), no ports (--no-ports)\n", s.name.c_str(),
+                  s.nodes.size());
+    }
     if (ranks.distributed()) {
       std::fputs(session::describe_ranks(s, ranks).c_str(), stdout);
       std::fflush(stdout);
@@ -272,14 +290,14 @@ bool announce(session::Session& run, const sigset_t& signals) {
   }
   const std::size_t own_net_ports =
       s.nodes.size() - sc.external_net_ports.size() - sc.elsewhere.size();
-  if (run.speaks()) {
+  if (run.speaks() && o.ports) {
     std::printf(
         "rfsitl: ready, listening on %zu net port(s) and %zu location port(s)%s; %s\n",
         own_net_ports, s.nodes.size() - sc.elsewhere.size(),
         ranks.distributed() ? " on rank 0 (the others on theirs)" : "",
         s.timing.duration_s > 0 ? "stops after the duration or at Ctrl-C" : "Ctrl-C to stop");
   }
-  if (s.timing.mode == scenario::TimeMode::kVirtual && run.speaks()) {
+  if (s.timing.mode == scenario::TimeMode::kVirtual && run.speaks() && o.ports) {
     // Virtual time does not wait for the wall clock, so live agents cannot keep
     // up with it: their frames enter at whatever tick the engine has reached.
     std::printf(
@@ -379,11 +397,7 @@ int run(const RunOptions& o) {
   }
   // Signals are taken synchronously by this thread only; block them before the
   // ports' and the engine's threads exist so that every thread inherits the mask.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const sigset_t signals = block_stop_signals();
 
   const double stats_every = run.scenario().engine.stats_interval_s;
   double next_stats = stats_every;
@@ -528,6 +542,20 @@ std::function<int()> add_run_command(CLI::App& parent) {
       "--ip", opts->ip,
       "IP on every node: a network namespace each (rfsitl-<net base>-<id>) with a TAP "
       "interface whose frames cross the radio channel (root; the scenario's ip: section)");
+  CLI::Option* no_ports = cmd->add_flag(
+      "--no-ports", opts->no_ports,
+      "Open no net or location port: the scenario's traffic: is the only traffic, decoded frames "
+      "are counted and dropped (campaigns, batch runs beside others)");
+  for (auto& [source, value] : opts->source_flags) {
+    static_cast<void>(value);
+    cmd->get_option(source->flag.flag)->excludes(no_ports);
+  }
+  cmd->add_option("--set", opts->set,
+                  "Set any scenario setting as the file would, e.g. --set mac.type=csma --set "
+                  "channel.noise_power_db=-100 (repeatable; after the other flags)")
+      ->type_name("KEY=VALUE")
+      ->take_all()
+      ->allow_extra_args(false);
   cmd->add_option("--mac", opts->mac,
                   "Every node's MAC: none (the paper's: send when idle), csma (802.11 DCF-like) "
                   "or tdma (the scenario's mac: section sets their settings)")

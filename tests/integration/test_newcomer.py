@@ -44,7 +44,7 @@ class HelpTest(unittest.TestCase):
 
     def test_no_command_shows_a_number_as_text(self):
         # Every option whose default is a number has a numeric type.
-        for command in ("run", "ping", "node", "describe", "mavlink-send"):
+        for command in ("run", "sweep", "ping", "node", "describe", "mavlink-send"):
             r = cli(command, "--help")
             self.assertEqual(r.returncode, 0, command + ": " + r.stderr)
             for m in re.finditer(r"^\s*(--[\w-]+) TEXT=(-?\d+(?:\.\d+)?(?:e-?\d+)?)\s", r.stdout, re.M):
