@@ -22,8 +22,9 @@ PACKAGES=(
   libliquid-dev libfec-dev libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev libfmt-dev
   libboost-dev libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-matplotlib python3-yaml
-  # campaigns from Python (python/rfsitl/): the table as a DataFrame, Student t for its plots
-  python3-pandas python3-scipy
+  # the Python module (python/rfsitl/): tables as DataFrames, Student t for the
+  # campaigns' plots, and its notebook run headless in the tests (nbconvert, a kernel)
+  python3-pandas python3-scipy jupyter-nbconvert python3-ipykernel
   # GNU Radio 3.10 and what our out-of-tree blocks (gr-rfsitl/) build with
   gnuradio gnuradio-dev pybind11-dev python3-dev
   # traces: libpcap to read pcapng back in tests, tshark to check Wireshark's view
@@ -32,9 +33,6 @@ PACKAGES=(
   chromium nodejs
   # IP on every node (--ip): namespaces (iproute2) and the stock tools the tests run in them
   iproute2 iputils-ping babeld
-  # the Python module's tables (pandas) and its notebook run headless in the
-  # tests (nbconvert and a Python kernel)
-  python3-pandas jupyter-nbconvert python3-ipykernel
   # bench/ip_throughput.py: TCP and UDP goodput between two IP nodes
   iperf3
   # bench/thread_tuning.sh: a competing load beside the engine
