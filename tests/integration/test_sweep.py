@@ -3,8 +3,9 @@
 Two campaigns with the same seeds write byte-identical tables; one interrupted
 with SIGINT and resumed writes the same table as one that was not; a row's
 manifest command re-runs it to the same counters; a wrong key fails before any
-run naming file:line:key; failed runs are rows, retried only when asked; the
-Python Campaign writes the CLI's table; --plot's points are the table's means.
+run naming file:line:key; failed runs are rows, retried only when asked;
+--plot's points are the table's means. (The Python Campaign against this
+table: tests/python/test_campaign.py.)
 """
 
 import csv
@@ -13,7 +14,6 @@ import os
 import re
 import signal
 import subprocess
-import sys
 import tempfile
 import time
 import unittest
@@ -180,43 +180,6 @@ class SweepTest(unittest.TestCase):
         r = sweep(campaign, "--jobs", "2", "--retry-failed")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(read(table), self.table)
-
-    def test_python_campaign_writes_the_cli_table(self):
-        sys.path.insert(0, os.path.join(SOURCE_DIR, "python"))
-        from rfsitl.campaign import Campaign  # pylint: disable=import-outside-toplevel
-        folder = tempfile.mkdtemp(dir=self.tmp.name)
-        c = Campaign.from_dict({
-            "scenario": SCENARIO,
-            "settings": {"time.duration_s": 2},
-            "parameters": {"channel.noise_power_db": [-80, -60]},
-            "seeds": 3,
-        }, folder=folder, binary=BIN)
-        self.assertEqual(c.check(), ROWS)
-        df = c.run(jobs=2, quiet=True)
-        self.assertEqual(read(os.path.join(folder, "campaign.results", "results.csv")),
-                         self.table)
-        self.assertEqual(len(df), ROWS)
-        self.assertEqual(list(df["seed"]), [1, 2, 3, 1, 2, 3])
-        self.assertEqual(int(df["delivered"].sum()),
-                         sum(int(r["delivered"]) for r in table_rows(
-                             os.path.join(self.results, "results.csv"))))
-
-    def test_python_plot_lines_are_the_tables_means(self):
-        sys.path.insert(0, os.path.join(SOURCE_DIR, "python"))
-        import matplotlib  # pylint: disable=import-outside-toplevel
-        matplotlib.use("Agg")
-        from rfsitl.campaign import load  # pylint: disable=import-outside-toplevel
-        from rfsitl.plotting import plot_metric  # pylint: disable=import-outside-toplevel
-        df = load(self.results)
-        ax = plot_metric(df, "delivered", "channel.noise_power_db")
-        xs, ys = ax.lines[0].get_data()
-        by_noise = defaultdict(list)
-        for row in table_rows(os.path.join(self.results, "results.csv")):
-            by_noise[int(row["channel.noise_power_db"])].append(int(row["delivered"]))
-        self.assertEqual(list(xs), sorted(by_noise))
-        for x, y in zip(xs, ys):
-            self.assertAlmostEqual(y, sum(by_noise[x]) / len(by_noise[x]))
-        ax.figure.savefig(os.path.join(self.tmp.name, "delivered.png"))
 
     def test_plot_points_are_the_tables_means(self):
         svg_path = os.path.join(self.tmp.name, "ratio.svg")
