@@ -1,6 +1,6 @@
 /// `rfsitl describe`: every registered component (live position source,
 /// mobility model, PHY, channel stage; MACs as they arrive) and the radio, with
-/// their declared settings. The settings
+/// their declared settings, and the spectrum's channel plans and node tuning. The settings
 /// tables in scenarios/README.md are `rfsitl describe --markdown`.
 #include <cstdio>
 #include <string>
@@ -16,6 +16,7 @@
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "rfsitl/registry/sample_stage_registry.hpp"
+#include "rfsitl/scenario/spectrum.hpp"
 
 namespace rfsitl::app {
 
@@ -35,6 +36,9 @@ std::vector<const config::ComponentInfo*> described_components() {
   for (const channel::SampleStageComponent& s : channel::sample_stage_components())
     out.push_back(&s.info);
   out.push_back(&channel::radio_info());
+  out.push_back(&scenario::spectrum_info());
+  out.push_back(&scenario::channel_plan_info());
+  out.push_back(&scenario::node_tuning_info());
   return out;
 }
 
