@@ -226,6 +226,15 @@ void check_ip(const Scenario& s, const Context& c) {
   }
 }
 
+// A band wider than the grid every band is mixed on.
+void check_fits(const Context& c, const std::string& key, const char* what, double hz, double fs) {
+  if (hz > fs) {
+    c.fail(key, std::string(what) + " of " + fmt(hz) +
+                    " Hz is wider than the emulator's sample rate (" + fmt(fs) +
+                    " Hz, time.sample_rate_hz)");
+  }
+}
+
 // Every node's tuning names a plan and channel that exist, gives its
 // frequencies one way, and fits in the emulator's sample rate (the channel
 // mixes every band on one grid of that rate); each plan's channels too.
@@ -243,11 +252,7 @@ void check_spectrum(const Scenario& s, const Context& c) {
     } catch (const config::SettingError& e) {
       c.fail(key + "." + e.key(), e.what());
     }
-    if (plan.bandwidth_hz > fs) {
-      c.fail(key + ".bandwidth_hz", "a channel of " + fmt(plan.bandwidth_hz) +
-                                        " Hz is wider than the emulator's sample rate (" + fmt(fs) +
-                                        " Hz, time.sample_rate_hz)");
-    }
+    check_fits(c, key + ".bandwidth_hz", "a channel", plan.bandwidth_hz, fs);
   }
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
     const auto& t = s.nodes[i].tuning;
@@ -279,11 +284,7 @@ void check_spectrum(const Scenario& s, const Context& c) {
                                      std::to_string(ref->number));
       }
     }
-    if (t->bandwidth_hz > fs) {
-      c.fail(key + ".bandwidth_hz", "a band of " + fmt(t->bandwidth_hz) +
-                                        " Hz is wider than the emulator's sample rate (" + fmt(fs) +
-                                        " Hz, time.sample_rate_hz)");
-    }
+    check_fits(c, key + ".bandwidth_hz", "a band", t->bandwidth_hz, fs);
   }
 }
 

@@ -56,23 +56,30 @@ TEST(ScenarioSpectrum, ACommandLineSettingChangesOneKeyOfAPlan) {
 }
 
 TEST(ScenarioSpectrum, MistakesNameFileLineAndKey) {
-  EXPECT_EQ(parse_error_of(kHead + "  - {id: 1, channel: wifi24/14}\n"),
-            "t.yaml:8: nodes[0].channel: plan 'wifi24' has channels 1..13, not 14");
-  EXPECT_EQ(parse_error_of(kHead + "  - {id: 1, channel: wifi5/1}\n"),
-            "t.yaml:8: nodes[0].channel: no plan 'wifi5' in spectrum.plans (known: ism915, "
-            "wifi24)");
-  EXPECT_EQ(parse_error_of(kHead + "  - {id: 1, channel: wifi24}\n"),
-            "t.yaml:8: nodes[0].channel: expected PLAN/N (e.g. wifi24/6), got 'wifi24'");
-  EXPECT_EQ(parse_error_of(kHead + "  - {id: 1, channel: wifi24/0}\n"),
-            "t.yaml:8: nodes[0].channel: expected PLAN/N (e.g. wifi24/6), got 'wifi24/0'");
-  EXPECT_EQ(parse_error_of(kHead + "  - {id: 1, channel: wifi24/1, tx_hz: 2.4e9}\n"),
-            "t.yaml:8: nodes[0].tx_hz: give a node's frequencies as channel or as tx_hz/rx_hz, "
-            "not both");
-  EXPECT_EQ(parse_error_of(kHead + "  - {id: 1, tx_hz: 2.4e9,\n     bandwidth_hz: 40e6}\n"),
-            "t.yaml:9: nodes[0].bandwidth_hz: a band of 40000000 Hz is wider than the "
-            "emulator's sample rate (20000000 Hz, time.sample_rate_hz)");
-  EXPECT_EQ(parse_error_of(kHead + "  - {id: 1, duplex: both}\n"),
-            "t.yaml:8: nodes[0].duplex: unknown 'both' (known: half, full)");
+  struct Case {
+    const char* node;  // the node's entry (line 8 of the file)
+    const char* error;
+  };
+  const Case cases[] = {
+      {"{id: 1, channel: wifi24/14}",
+       "t.yaml:8: nodes[0].channel: plan 'wifi24' has channels 1..13, not 14"},
+      {"{id: 1, channel: wifi5/1}",
+       "t.yaml:8: nodes[0].channel: no plan 'wifi5' in spectrum.plans (known: ism915, wifi24)"},
+      {"{id: 1, channel: wifi24}",
+       "t.yaml:8: nodes[0].channel: expected PLAN/N (e.g. wifi24/6), got 'wifi24'"},
+      {"{id: 1, channel: wifi24/0}",
+       "t.yaml:8: nodes[0].channel: expected PLAN/N (e.g. wifi24/6), got 'wifi24/0'"},
+      {"{id: 1, channel: wifi24/1, tx_hz: 2.4e9}",
+       "t.yaml:8: nodes[0].tx_hz: give a node's frequencies as channel or as tx_hz/rx_hz, not "
+       "both"},
+      {"{id: 1, tx_hz: 2.4e9,\n     bandwidth_hz: 40e6}",
+       "t.yaml:9: nodes[0].bandwidth_hz: a band of 40000000 Hz is wider than the emulator's "
+       "sample rate (20000000 Hz, time.sample_rate_hz)"},
+      {"{id: 1, duplex: both}", "t.yaml:8: nodes[0].duplex: unknown 'both' (known: half, full)"},
+  };
+  for (const Case& c : cases) {
+    EXPECT_EQ(parse_error_of(kHead + "  - " + c.node + "\n"), c.error) << c.node;
+  }
   EXPECT_NE(parse_error_of(kHead + "  - {id: 1, tx_hz: -5}\n").find("t.yaml:8: nodes[0].tx_hz"),
             std::string::npos);
   EXPECT_NE(parse_error_of("spectrum: {plans: {p: {channels: 0}}}\nnodes: [{id: 1}]\n")
