@@ -166,6 +166,22 @@ w('campaign', 'zip_and_list', b'\x00scenario: s.yaml\nsettings: {time.duration_s
 w('campaign', 'table', b'\x01a,b,seed,scenario_hash,status,error,delivery_ratio,delivered\n'
   b'1,x,5,0123456789abcdef,ok,,0.5,3\n"2,3",y,9,0123456789abcdef,failed,"exit code 2: ""x""",,\n')
 
+# scenario: channel plans and nodes on their own frequencies (hand-made: no
+# shipped scenario uses them yet), and the mistakes the reader must name.
+SPECTRUM_HEAD = ('time: {mode: virtual, duration_s: 0.1, sample_rate_hz: 20e6}\n'
+                 'phy: {type: ofdm}\nradio: {carrier_hz: 2.437e9}\n'
+                 'spectrum:\n  plans:\n'
+                 '    wifi24: {first_hz: 2.412e9, spacing_hz: 5e6, channels: 13, bandwidth_hz: 20e6}\n'
+                 '    ism915: {first_hz: 902.2e6, spacing_hz: 400e3, channels: 64, bandwidth_hz: 200e3}\n')
+w('scenario', 'spectrum_plans.yaml', SPECTRUM_HEAD +
+  'nodes:\n  - {id: 1, channel: wifi24/1, position: {x: 0, y: 0, z: 10}}\n'
+  '  - {id: 2, channel: wifi24/11, duplex: half, position: {x: 5, y: 0, z: 10}}\n'
+  '  - {id: 3, tx_hz: 1.7325e9, rx_hz: 2.1325e9, bandwidth_hz: 1.4e6, duplex: full}\n'
+  '  - {id: 4, channel: ism915/64}\n')
+w('scenario', 'spectrum_mistakes.yaml', SPECTRUM_HEAD +
+  'nodes:\n  - {id: 1, channel: wifi24/14}\n  - {id: 2, channel: nope/1}\n'
+  '  - {id: 3, channel: wifi24/1, tx_hz: 2.4e9}\n  - {id: 4, bandwidth_hz: 40e6}\n')
+
 
 # vehicle_link: [settings][chunks of [len][dt tenths][bytes]] (vehicle_link_fuzzer.cpp),
 # frames from the spec-written test vehicle.

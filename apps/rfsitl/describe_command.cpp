@@ -8,7 +8,7 @@
 
 #include "commands.hpp"
 #include "rfsitl/config/settings_table.hpp"
-#include "rfsitl/registry/all_components.hpp"
+#include "rfsitl/scenario/all_components.hpp"
 
 namespace rfsitl::app {
 
@@ -23,7 +23,7 @@ struct DescribeOptions {
 
 std::vector<std::string> kinds() {
   std::vector<std::string> out;
-  for (const auto* c : registry::all_components()) {
+  for (const auto* c : scenario::all_components()) {
     if (out.empty() || out.back() != c->kind) out.push_back(c->kind);
   }
   return out;
@@ -37,7 +37,7 @@ std::string join(const std::vector<std::string>& v) {
 
 std::string markdown() {
   std::string out;
-  for (const auto* c : registry::all_components()) {
+  for (const auto* c : scenario::all_components()) {
     out += "#### " + c->kind + " `" + c->name + "`\n\n" + c->doc + ".\n\n" +
            config::settings_table(*c) + "\n";
   }
@@ -50,12 +50,12 @@ int describe(const DescribeOptions& o) {
     return 0;
   }
   if (o.json) {
-    std::printf("%s\n", registry::all_components_json(o.kind).dump(2).c_str());
+    std::printf("%s\n", scenario::all_components_json(o.kind).dump(2).c_str());
     return 0;
   }
   std::vector<const config::ComponentInfo*> matches;
   std::vector<std::string> names;
-  for (const auto* c : registry::all_components()) {
+  for (const auto* c : scenario::all_components()) {
     if (!o.kind.empty() && c->kind != o.kind) continue;
     names.push_back(c->name);
     if (o.name.empty() || c->name == o.name) matches.push_back(c);

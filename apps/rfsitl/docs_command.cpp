@@ -13,7 +13,7 @@
 #include "commands.hpp"
 #include "rfsitl/common/build_version.hpp"
 #include "rfsitl/config/component_info.hpp"
-#include "rfsitl/registry/all_components.hpp"
+#include "rfsitl/scenario/all_components.hpp"
 
 namespace rfsitl::app {
 namespace {
@@ -138,7 +138,7 @@ std::string components_page() {
       "\\fBtype:\\fR and takes the settings listed. \\fBrfsitl describe\\fR lists the same, "
       "with those of loaded plugins.\n";
   std::string kind;
-  for (const config::ComponentInfo* c : registry::all_components()) {
+  for (const config::ComponentInfo* c : scenario::all_components()) {
     if (c->kind != kind) {
       kind = c->kind;
       page += ".SH " + roff(kind) + "\n";

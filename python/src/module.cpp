@@ -16,7 +16,7 @@
 #include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/engine/frame_event.hpp"
 #include "rfsitl/engine/node_counter_fields.hpp"
-#include "rfsitl/registry/all_components.hpp"
+#include "rfsitl/scenario/all_components.hpp"
 #include "rfsitl/registry/plugin_loader.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 #include "virtual_run.hpp"
@@ -208,7 +208,7 @@ PYBIND11_MODULE(_rfsitl, m) {
     }
     return skipped;
   });
-  m.def("components_json", [] { return registry::all_components_json().dump(); });
+  m.def("components_json", [] { return scenario::all_components_json().dump(); });
   m.def("event_kinds", &event_kinds);
   m.def("loss_reasons", &loss_reasons);
 

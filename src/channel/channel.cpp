@@ -9,13 +9,19 @@
 #include <utility>
 
 #include "noise_stage.hpp"
+#include "rfsitl/channel/frequency_shift.hpp"
 #include "rfsitl/channel/mixer.hpp"
+#include "rfsitl/channel/noise_source.hpp"
 
 namespace rfsitl::channel {
 namespace {
 
 /// signal_end_ of a node that never transmitted.
 constexpr SampleTime kNever = std::numeric_limits<SampleTime>::min() / 2;
+
+/// The leakage noise's streams under the run's seed: receiver m's is
+/// kLeakageStreams + m, apart from the receivers' own noise (stream m).
+constexpr std::uint64_t kLeakageStreams = std::uint64_t{1} << 63;
 
 cf32 to_cf32(std::complex<double> v) {
   return {static_cast<float>(v.real()), static_cast<float>(v.imag())};
@@ -66,8 +72,79 @@ void Channel::on_air(SampleTime tick_start, std::span<const Transmission> active
     }
     active = staged_active_;
   }
+  if (!tunings_.empty()) active = shift_transmitters(tick_start, active);
   active_ = active;
   if (matrix_.dispersive()) keep_history(tick_start, active);
+}
+
+void Channel::tune(std::size_t node, const RadioTuning& tuning) {
+  const std::size_t n = matrix_.size();
+  if (tunings_.empty()) {
+    RadioTuning shared;
+    shared.tx_hz = shared.rx_hz = config_.carrier_hz;
+    shared.bandwidth_hz = config_.sample_rate_hz;
+    tunings_.assign(n, shared);
+    tx_cycles_.assign(n, 0.0);
+    rx_cycles_.assign(n, 0.0);
+    bands_.assign(n * n, LinkBand{});
+    shifted_.assign(n, std::vector<cf32>(config_.tick_samples));
+    tx_power_.assign(n, 0.0F);
+  }
+  tunings_.at(node) = tuning;
+  tx_cycles_[node] = (tuning.tx_hz - config_.carrier_hz) / config_.sample_rate_hz;
+  rx_cycles_[node] = (tuning.rx_hz - config_.carrier_hz) / config_.sample_rate_hz;
+  for (std::size_t other = 0; other < n; ++other) {
+    if (other == node) continue;  // a node never mixes its own signal
+    for (const auto& [tx, rx] : {std::pair{node, other}, std::pair{other, node}}) {
+      const LinkBand b = link_band(tunings_[tx], tunings_[rx], config_.sample_rate_hz);
+      bands_[rx * n + tx] = b;
+      matrix_.set_band_gain(tx, rx, b.kappa);
+    }
+  }
+}
+
+std::span<const Transmission> Channel::shift_transmitters(SampleTime tick_start,
+                                                          std::span<const Transmission> active) {
+  shifted_active_.clear();
+  for (const Transmission& t : active) {
+    float power = 0.0F;
+    for (std::size_t k = 0; k < config_.tick_samples; ++k) power += std::norm(t.samples[k]);
+    tx_power_[t.node] = power / static_cast<float>(config_.tick_samples);
+    if (tx_cycles_[t.node] == 0.0) {
+      shifted_active_.push_back(t);
+      continue;
+    }
+    std::vector<cf32>& x = shifted_[t.node];
+    std::copy_n(t.samples, x.size(), x.begin());
+    shift_frequency(x, tx_cycles_[t.node], static_cast<std::uint64_t>(tick_start));
+    shifted_active_.push_back({t.node, x.data()});
+  }
+  return shifted_active_;
+}
+
+/// The leaked powers of every transmitter add into one noise variance: the
+/// sum of independent Gaussians is one Gaussian. Its mean over the tick (a
+/// frame that ends mid-tick leaks its average).
+void Channel::arrive_in_band(std::size_t m, std::size_t first, std::span<cf32> y) const {
+  const SampleTime from = tick_start_ + static_cast<SampleTime>(first);
+  shift_frequency(y, -rx_cycles_[m], static_cast<std::uint64_t>(from));
+  const std::size_t n = tunings_.size();
+  double leaked = 0.0;
+  for (const Transmission& t : active_) {
+    if (t.node == m) {  // a full-duplex node hears itself through its duplexer
+      leaked += tunings_[m].self_gain * tx_power_[m];
+      continue;
+    }
+    const LinkBand& b = bands_[m * n + t.node];
+    if (b.relation != BandRelation::kLeaking) continue;
+    leaked += static_cast<double>(b.kappa) * std::norm(matrix_.coefficient(t.node, m)) *
+              tx_power_[t.node];
+  }
+  if (leaked > 0.0) {
+    const auto variance = static_cast<float>(leaked * gain_ * gain_);
+    NoiseSource(config_.seed, kLeakageStreams + m, variance)
+        .add_to(y, static_cast<std::uint64_t>(from));
+  }
 }
 
 /// Shifts every transmitter's history by one tick and appends this tick's
@@ -113,11 +190,12 @@ bool Channel::tail_reaches(std::size_t n, std::size_t m, SampleTime from) const 
 bool Channel::hears_signal(std::size_t m) const {
   if (!matrix_.dispersive()) {
     return std::any_of(active_.begin(), active_.end(), [&](const Transmission& t) {
-      return t.node != m && matrix_.coefficient(t.node, m) != cf32{};
+      return t.node != m && reaches(t.node, m) && matrix_.coefficient(t.node, m) != cf32{};
     });
   }
   return std::any_of(audible_.begin(), audible_.end(), [&](std::size_t n) {
-    return n != m && matrix_.coefficient(n, m) != cf32{} && tail_reaches(n, m, tick_start_);
+    return n != m && reaches(n, m) && matrix_.coefficient(n, m) != cf32{} &&
+           tail_reaches(n, m, tick_start_);
   });
 }
 
@@ -139,6 +217,7 @@ void Channel::receive(std::size_t m, std::size_t first, std::span<cf32> y, Scrat
 }
 
 void Channel::finish(std::size_t m, std::size_t first, std::span<cf32> y) const {
+  if (!tunings_.empty()) arrive_in_band(m, first, y);
   const SampleTime from = tick_start_ + static_cast<SampleTime>(first);
   for (const auto& stage : receive_) stage->apply(m, from, y);
 }
@@ -159,7 +238,7 @@ void Channel::receive_together(std::span<const std::size_t> ms, std::span<cf32* 
   for (const std::size_t m : ms) {
     const auto row = matrix_.receiver_row(m);
     for (const Transmission& tx : active_)
-      s.coeffs.push_back(tx.node == m ? cf32{} : row[tx.node] * g);
+      s.coeffs.push_back(tx.node == m || !in_band(tx.node, m) ? cf32{} : row[tx.node] * g);
   }
   mix_rows(s.inputs, s.coeffs, ys, config_.tick_samples);
   for (std::size_t j = 0; j < ms.size(); ++j) finish(ms[j], 0, {ys[j], config_.tick_samples});
@@ -171,7 +250,7 @@ void Channel::mix_flat(std::size_t m, std::size_t first, std::span<cf32> y, Scra
   const auto row = matrix_.receiver_row(m);
   const auto g = static_cast<float>(gain_);
   for (const Transmission& tx : active_) {
-    if (tx.node != m && row[tx.node] != cf32{}) {
+    if (tx.node != m && row[tx.node] != cf32{} && in_band(tx.node, m)) {
       s.inputs.push_back(tx.samples + first);
       s.coeffs.push_back(row[tx.node] * g);
     }
@@ -190,7 +269,10 @@ void Channel::gather_lags(std::size_t m, std::size_t first, bool with_taps, Scra
   const auto g = static_cast<float>(gain_);
   const SampleTime from = tick_start_ + static_cast<SampleTime>(first);
   for (const std::size_t n : audible_) {
-    if (n == m || matrix_.coefficient(n, m) == cf32{} || !tail_reaches(n, m, from)) continue;
+    if (n == m || matrix_.coefficient(n, m) == cf32{} || !in_band(n, m) ||
+        !tail_reaches(n, m, from)) {
+      continue;
+    }
     const LinkResponse& r = matrix_.response(n, m);
     s.links.push_back(n);
     const cf32* now = history_[n].data() + history_len_;
@@ -247,7 +329,7 @@ void Channel::mix_fading(std::size_t m, std::size_t first, std::span<cf32> y, Sc
   s.bases.clear();
   const auto row = matrix_.receiver_row(m);
   for (const Transmission& tx : active_) {
-    if (tx.node != m && row[tx.node] != cf32{}) {
+    if (tx.node != m && row[tx.node] != cf32{} && in_band(tx.node, m)) {
       s.links.push_back(tx.node);
       s.bases.push_back(tx.samples);
     }

@@ -117,10 +117,15 @@ float ChannelMatrix::power_gain_at(std::size_t tx, std::size_t rx, double t_s) c
       for (std::size_t p = 0; p < h.size(); ++p) {
         total += std::norm(std::complex<double>(r.path_gains[p]) * h[p]);
       }
-      return static_cast<float>(total);
+      return static_cast<float>(total) * band_gain(tx, rx);
     }
   }
-  return std::norm(coefficient_at(tx, rx, t_s));
+  return std::norm(coefficient_at(tx, rx, t_s)) * band_gain(tx, rx);
+}
+
+void ChannelMatrix::set_band_gain(std::size_t tx, std::size_t rx, float kappa) {
+  if (band_gain_.empty()) band_gain_.assign(n_ * n_, 1.0F);
+  band_gain_.at(rx * n_ + tx) = kappa;
 }
 
 void ChannelMatrix::recompute(std::size_t i) {

@@ -65,6 +65,7 @@ struct Node : phy::RxHandler, mac::FrameQueue {
   bool active = false;                  // tx carries signal this tick
   std::size_t tx_samples = 0;           // leading samples of tx that carry signal
   bool receiver_blanked = false;        // T/R switch on transmit since last tick
+  bool full_duplex = false;             // no T/R switch: receives while it transmits (FDD)
   std::uint32_t frames_started = 0;
   // Set by the TX phase when a frame starts this tick; consumed serially.
   std::optional<std::pair<std::uint32_t, NetFrame>> started;

@@ -163,6 +163,10 @@ void EventReporter::rx_samples(std::size_t node, SampleTime t,
   }
 }
 
+void EventReporter::retuned(std::size_t node, SampleTime t, double tx_hz, double rx_hz) const {
+  for (EngineObserver* o : observers_) o->on_retune(scenario_.nodes[node].id, t, tx_hz, rx_hz);
+}
+
 void EventReporter::decoded(std::size_t node, SampleTime t, const phy::RxEvent& ev) const {
   for (EngineObserver* o : observers_) o->on_decode(node, t, ev);
 }

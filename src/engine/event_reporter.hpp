@@ -41,6 +41,8 @@ class EventReporter {
   void rx_samples(std::size_t node, SampleTime t, std::span<const cf32> samples) const;
 
   // Worker threads.
+  /// Node `node`'s radio moved to tx_hz/rx_hz from the tick at t.
+  void retuned(std::size_t node, SampleTime t, double tx_hz, double rx_hz) const;
   void decoded(std::size_t node, SampleTime t, const phy::RxEvent& ev) const;
 
   // Engine thread, distributed runs: what the observers share with the other

@@ -126,8 +126,9 @@ bool FrameLedger::on_decoded(std::uint32_t serial, std::size_t rx) {
 LossReason FrameLedger::loss_reason(const Record& r, std::size_t rx,
                                     const channel::ChannelMatrix& channel) const {
   const auto overlaps = [&](const Record& o) { return o.start < r.end && r.start < o.end; };
+  const bool full_duplex = rx < config_.full_duplex.size() && config_.full_duplex[rx];
   for (const Record& o : records_) {
-    if (o.tx == rx && overlaps(o)) return LossReason::kHalfDuplex;
+    if (o.tx == rx && overlaps(o) && !full_duplex) return LossReason::kHalfDuplex;
   }
   const double noise = config_.noise_variance;
   const double signal = channel.power_gain(r.tx, rx);

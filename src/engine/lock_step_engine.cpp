@@ -12,6 +12,7 @@
 #include "rfsitl/common/spsc_ring.hpp"
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/scenario/link_budget_of.hpp"
+#include "rfsitl/scenario/radio_tuning_of.hpp"
 #include "rfsitl/scenario/sample_chain_of.hpp"
 
 namespace rfsitl::engine {
@@ -23,7 +24,7 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
       block_(s.timing.tick_samples),
       air_(s.nodes.size(), scenario::make_link_budget(s), s.channel.origin,
            channel::ChannelConfig{s.channel.noise_variance, s.channel.shared_noise, s.seed,
-                                  s.timing.sample_rate_hz, s.timing.tick_samples},
+                                  s.timing.sample_rate_hz, s.timing.tick_samples, s.carrier_hz()},
            scenario::make_sample_chain(s, channel::SampleSide::kTransmit),
            scenario::make_sample_chain(s, channel::SampleSide::kReceive)),
       channel_(air_.matrix()),
@@ -53,6 +54,7 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
     node.id = s.nodes[i].id;
     node.index = i;
     node.reporter = &reporter_;
+    node.full_duplex = s.band_of(i).duplex == scenario::Duplex::kFull;
     ids_.push_back(node.id);
     const scenario::PhyChoice& phy = s.phy_of(i);
     if (factory) {
@@ -79,11 +81,18 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
       channel_.set_position(i, to_ecef(*s.nodes[i].initial_position, s.channel.origin));
     }
   }
+  // Radios on their own frequencies; without any, the channel keeps the one
+  // shared band (and its exact arithmetic).
+  if (s.tuned()) {
+    for (std::size_t i = 0; i < n; ++i) air_.tune(i, scenario::radio_tuning_of(s, i));
+  }
   // Remote transceivers mostly wait on a socket: each needs its worker.
   tuner_.emplace(pool_.size(), s.engine.threads != 0 || remote_count_ > 0);
   std::vector<double> sensitivity;
+  std::vector<bool> full_duplex;
   std::size_t latency = 0;
   for (const Node& node : nodes_) {
+    full_duplex.push_back(node.full_duplex);
     sensitivity.push_back(node.radio->sensitivity_snr_db());
     latency = std::max(latency, node.radio->rx_latency_samples());
   }
@@ -96,9 +105,10 @@ LockStepEngine::LockStepEngine(const scenario::Scenario& s, FrameSink& sink,
   for (std::size_t i = 0; i < n; ++i) {
     if (!nodes_[i].radio->remote()) tx_order_.push_back(i);
   }
-  ledger_.emplace(LedgerConfig{s.channel.noise_variance, std::move(sensitivity),
-                               static_cast<SampleTime>(2 * latency + block_)},
-                  counters_, [this](NodeId id) { return index_of(id); });
+  ledger_.emplace(
+      LedgerConfig{s.channel.noise_variance, std::move(sensitivity),
+                   static_cast<SampleTime>(2 * latency + block_), std::move(full_duplex)},
+      counters_, [this](NodeId id) { return index_of(id); });
   ledger_->set_outcome_callback([this](const LedgerOutcome& o) {
     // A unicast frame is delivered by the decode that receives it: report the
     // receiver's event first, then the outcome (see replay). A rank reports
@@ -241,6 +251,35 @@ void LockStepEngine::inject_traffic() {
   }
 }
 
+void LockStepEngine::retune(std::size_t node, double tx_hz, double rx_hz) {
+  std::lock_guard lock(retune_mutex_);
+  retunes_.push_back({node, tx_hz, rx_hz});
+  retune_pending_.store(true, std::memory_order_release);
+}
+
+void LockStepEngine::apply_retunes() {
+  std::vector<Retune> due;
+  {
+    std::lock_guard lock(retune_mutex_);
+    due.swap(retunes_);
+    retune_pending_.store(false, std::memory_order_relaxed);
+  }
+  if (tunings_.empty()) {
+    for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      tunings_.push_back(scenario::radio_tuning_of(scenario_, i));
+      air_.tune(i, tunings_.back());
+    }
+  }
+  for (const Retune& r : due) {
+    channel::RadioTuning& t = tunings_.at(r.node);
+    t.tx_hz = r.tx_hz;
+    t.rx_hz = r.rx_hz;
+    air_.tune(r.node, t);
+    reporter_.retuned(r.node, now_, r.tx_hz, r.rx_hz);
+  }
+  snapshots_.mark_stale();
+}
+
 void LockStepEngine::apply_positions() {
   const double now_s = static_cast<double>(now_) / scenario_.timing.sample_rate_hz;
   channel_.set_clock(now_s);
@@ -276,6 +315,7 @@ void LockStepEngine::copy_motions() {
 }
 
 void LockStepEngine::run_tick() {
+  if (retune_pending_.load(std::memory_order_acquire)) apply_retunes();
   apply_positions();
   inject_traffic();
   // Waking the workers costs more than an idle transmitter's zero fill, so

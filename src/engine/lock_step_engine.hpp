@@ -73,6 +73,8 @@ class LockStepEngine final : public Engine {
     inbox_.move(node, position, false);
   }
 
+  void retune(std::size_t node, double tx_hz, double rx_hz) override;
+
   void report(std::size_t node, const position::StateReport& r) override;
 
   std::vector<position::NodeMotion> motions() const override { return inbox_.motions(); }
@@ -131,8 +133,12 @@ class LockStepEngine final : public Engine {
   /// transmitting node does not run during the samples it transmits, and it
   /// restarts (reset_receiver) at the first sample after its transmission. Any
   /// frame that overlaps the node's own transmission is therefore lost.
-  std::size_t first_receive_sample(const Node& node) const { return node.tx_samples; }
-  bool blanked_whole_tick(const Node& node) const { return node.tx_samples >= block_; }
+  std::size_t first_receive_sample(const Node& node) const {
+    return node.full_duplex ? 0 : node.tx_samples;
+  }
+  bool blanked_whole_tick(const Node& node) const {
+    return !node.full_duplex && node.tx_samples >= block_;
+  }
 
   /// Skipping silence, exact condition: receiver m runs in a tick iff some sample
   /// is left after its own transmission and (it is inside a frame, or it has just
@@ -254,6 +260,20 @@ class LockStepEngine final : public Engine {
   LinkSnapshots snapshots_{scenario_.timing.sample_rate_hz};
   mutable std::mutex snapshot_mutex_;  // ranks_snapshot_
   NodeStateInbox inbox_;
+
+  // Engine::retune: asked for by any thread, applied by the engine thread at
+  // the start of the next tick (apply_retunes). tunings_ holds every node's
+  // radio once the first retune came (empty before: the scenario's).
+  struct Retune {
+    std::size_t node;
+    double tx_hz;
+    double rx_hz;
+  };
+  std::mutex retune_mutex_;
+  std::vector<Retune> retunes_;  // under retune_mutex_
+  std::atomic<bool> retune_pending_{false};
+  std::vector<channel::RadioTuning> tunings_;
+  void apply_retunes();
 
   struct AtomicStatus {
     std::atomic<SampleTime> virtual_samples{0};

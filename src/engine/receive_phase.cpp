@@ -31,7 +31,7 @@ void LockStepEngine::plan_receivers() {
     }
     node.watched = reporter_.active() && reporter_.wants_samples(m, now_, block_);
     node.tick_time = now_;
-    if (node.tx_samples > 0) node.receiver_blanked = true;
+    if (node.tx_samples > 0 && !node.full_duplex) node.receiver_blanked = true;
     // Carrier sense: a node that transmits hears its own signal; whether
     // anyone else's reaches it, its input will tell (sense()).
     node.sensed_busy = node.tx_samples > 0;

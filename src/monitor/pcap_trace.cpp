@@ -189,6 +189,17 @@ class PcapTraceImpl final : public PcapTrace {
     // Built outside the lock: only the file write is serialized.
     Bytes block;
     encode(e, block);
+    append(block);
+  }
+
+  void on_retune(NodeId node, SampleTime time, double tx_hz, double rx_hz) override {
+    Bytes block;
+    encode_retune(node, time, tx_hz, rx_hz, block);
+    append(block);
+  }
+
+  /// Writes one packet's block, rotating the file first when it would grow too big.
+  void append(const Bytes& block) {
     std::lock_guard lock(mutex_);
     if (file_ == nullptr) return;  // a write failed earlier: the trace stopped
     if (packets_in_file_ > 0 && bytes_in_file_ + block.size() > settings_.max_file_bytes) {
@@ -282,20 +293,52 @@ class PcapTraceImpl final : public PcapTrace {
     b.end_block(at);
   }
 
-  void encode(const engine::FrameEvent& e, Bytes& b) const {
-    const std::size_t at = b.begin_block(kEnhancedPacketBlock);
+  /// Where an Enhanced Packet Block's parts are, as begin_packet() wrote them.
+  struct PacketAt {
+    std::size_t block;    // the block's start
+    std::size_t lengths;  // its captured and original lengths, set by finish_packet()
+    std::size_t packet;   // the packet's first byte
+  };
+
+  /// An Enhanced Packet Block's header, stamped with the virtual time `time`.
+  PacketAt begin_packet(SampleTime time, Bytes& b) const {
+    PacketAt at{b.begin_block(kEnhancedPacketBlock), 0, 0};
     b.u32(0);  // interface id
     // Multiplying first keeps these exact whenever fs divides 1e9 (or 1e6).
-    const auto t = static_cast<long double>(std::max<SampleTime>(0, e.time));
+    const auto t = static_cast<long double>(std::max<SampleTime>(0, time));
     const auto fs = static_cast<long double>(settings_.sample_rate_hz);
     const auto ns = static_cast<std::uint64_t>(epoch_offset_s_) * 1'000'000'000ULL +
                     static_cast<std::uint64_t>(std::llround(t * 1e9L / fs));
     b.u32(static_cast<std::uint32_t>(ns >> 32));
     b.u32(static_cast<std::uint32_t>(ns & 0xFFFFFFFFU));
-    const std::size_t lengths_at = b.size();
+    at.lengths = b.size();
     b.u32(0);  // captured length, set below
     b.u32(0);  // original length
-    const std::size_t packet_at = b.size();
+    at.packet = b.size();
+    return at;
+  }
+
+  /// A retune as a packet of a bare radiotap header (no 802.11 frame: nothing
+  /// went on the air), its comment saying where the radio now is.
+  void encode_retune(NodeId node, SampleTime time, double tx_hz, double rx_hz, Bytes& b) const {
+    const PacketAt at = begin_packet(time, b);
+    b.u8(0);   // version
+    b.u8(0);   // pad
+    b.u16(8);  // length: the header alone
+    b.u32(0);  // no fields present
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "rfsitl event=retune node=%u tx_hz=%.6f rx_hz=%.6f sample=%lld t=%.9f", node,
+                  tx_hz, rx_hz, static_cast<long long>(time),
+                  static_cast<double>(time) / settings_.sample_rate_hz);
+    finish_packet(buf, b, at);
+  }
+
+  void encode(const engine::FrameEvent& e, Bytes& b) const {
+    const PacketAt packet = begin_packet(e.time, b);
+    const std::size_t packet_at = packet.packet;
+    const auto t = static_cast<long double>(std::max<SampleTime>(0, e.time));
+    const auto fs = static_cast<long double>(settings_.sample_rate_hz);
 
     // Radiotap header: version, pad, length, present; then the fields in bit
     // order, each aligned to its natural size from the header's start.
@@ -325,7 +368,7 @@ class PcapTraceImpl final : public PcapTrace {
       b.u16(0);
       mac_of(e.dst, mac);
       b.raw(mac, 6);
-      finish_packet(e, b, at, lengths_at, packet_at);
+      finish_packet(comment_of(e, settings_.sample_rate_hz), b, packet);
       return;
     }
     // 802.11 data frame (type 2, subtype 0), ToDS = FromDS = 0 (IBSS):
@@ -357,19 +400,18 @@ class PcapTraceImpl final : public PcapTrace {
       b.raw(kLlcSnap, sizeof kLlcSnap);
       b.raw(e.payload.data(), e.payload.size());
     }
-    finish_packet(e, b, at, lengths_at, packet_at);
+    finish_packet(comment_of(e, settings_.sample_rate_hz), b, packet);
   }
 
   /// The packet's lengths, padding and comment, and the block's end.
-  void finish_packet(const engine::FrameEvent& e, Bytes& b, std::size_t at, std::size_t lengths_at,
-                     std::size_t packet_at) const {
-    const auto packet_len = static_cast<std::uint32_t>(b.size() - packet_at);
-    b.put_u32_at(lengths_at, packet_len);
-    b.put_u32_at(lengths_at + 4, packet_len);
+  void finish_packet(const std::string& comment, Bytes& b, const PacketAt& at) const {
+    const auto packet_len = static_cast<std::uint32_t>(b.size() - at.packet);
+    b.put_u32_at(at.lengths, packet_len);
+    b.put_u32_at(at.lengths + 4, packet_len);
     b.pad_to(4);
-    b.option(kOptComment, comment_of(e, settings_.sample_rate_hz));
+    b.option(kOptComment, comment);
     b.end_of_options();
-    b.end_block(at);
+    b.end_block(at.block);
   }
 
   bool write(const std::vector<std::uint8_t>& bytes) {

@@ -211,6 +211,33 @@ void read_mac(Context& c, const Entry& at, MacChoice& mac) {
   read_declared(c, sec, at, info, macs, mac.settings);
 }
 
+// `spectrum: {plans: {wifi24: {first_hz: 2.412e9, ...}}}`: each plan starts
+// from the one of that name read so far (a command-line override changes one
+// key), else from the declared defaults.
+void read_spectrum(Context& c, const Entry& at, SpectrumConfig& spectrum) {
+  Section sec(c, at);
+  if (const Entry plans = sec.take("plans")) {
+    Section list(c, plans);  // a mapping of names, each key once
+    const std::vector<std::string> names = list.unknown_keys();
+    for (const std::string& name : names) {
+      const Entry plan = list.take(name);
+      if (name.find('/') != std::string::npos) c.fail(plan.key, "a plan's name has no '/'");
+      const config::ComponentInfo& info = channel_plan_info();
+      const auto known = spectrum.plans.find(name);
+      config::Settings settings = known != spectrum.plans.end()
+                                      ? channel_plan_fields().settings_of(known->second)
+                                      : info.defaults();
+      Section psec(c, plan);
+      read_declared(c, psec, plan, info, {}, settings);
+      spectrum.plans[name] = channel_plan_fields().build(settings);
+    }
+    list.finish();
+  }
+  config::Settings settings = spectrum_fields().settings_of(spectrum);
+  read_declared(c, sec, at, spectrum_info(), {}, settings);
+  spectrum.duplexer_isolation_db = spectrum_fields().build(settings).duplexer_isolation_db;
+}
+
 void read_external(Context& c, const Entry& at, ExternalConfig& e) {
   Section sec(c, at);
   sec.get("socket", e.socket_path);
@@ -245,7 +272,11 @@ NodeConfig read_node(Context& c, const Entry& at, const PhyChoice& scenario_phy)
     read_phy(c, phy, *n.phy);
   }
   if (const Entry netns = sec.take("netns")) n.netns = text(c, netns);
-  sec.finish();
+  // The rest are the node's tuning keys (spectrum.hpp); none given: the shared band.
+  const config::ComponentInfo& tuning = node_tuning_info();
+  config::Settings settings = tuning.defaults();
+  read_declared(c, sec, at, tuning, {}, settings);
+  if (settings != tuning.defaults()) n.tuning = node_tuning_fields().build(settings);
   return n;
 }
 
@@ -276,6 +307,7 @@ void read_settings(Context& c, Section& sec, Scenario& s) {
   read_external(c, sec.take("external"), s.external);
   read_ip(c, sec.take("ip"), s.ip);
   read_mac(c, sec.take("mac"), s.mac);
+  read_spectrum(c, sec.take("spectrum"), s.spectrum);
 }
 
 Scenario read_scenario(Context& c, const YAML::Node& root) {

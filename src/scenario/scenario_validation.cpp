@@ -226,6 +226,68 @@ void check_ip(const Scenario& s, const Context& c) {
   }
 }
 
+// A band wider than the grid every band is mixed on.
+void check_fits(const Context& c, const std::string& key, const char* what, double hz, double fs) {
+  if (hz > fs) {
+    c.fail(key, std::string(what) + " of " + fmt(hz) +
+                    " Hz is wider than the emulator's sample rate (" + fmt(fs) +
+                    " Hz, time.sample_rate_hz)");
+  }
+}
+
+// Every node's tuning names a plan and channel that exist, gives its
+// frequencies one way, and fits in the emulator's sample rate (the channel
+// mixes every band on one grid of that rate); each plan's channels too.
+void check_spectrum(const Scenario& s, const Context& c) {
+  const double fs = s.timing.sample_rate_hz;
+  try {
+    spectrum_info().validate(spectrum_fields().settings_of(s.spectrum));
+  } catch (const config::SettingError& e) {
+    c.fail("spectrum." + e.key(), e.what());
+  }
+  for (const auto& [name, plan] : s.spectrum.plans) {
+    const std::string key = "spectrum.plans." + name;
+    try {
+      channel_plan_info().validate(channel_plan_fields().settings_of(plan));
+    } catch (const config::SettingError& e) {
+      c.fail(key + "." + e.key(), e.what());
+    }
+    check_fits(c, key + ".bandwidth_hz", "a channel", plan.bandwidth_hz, fs);
+  }
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const auto& t = s.nodes[i].tuning;
+    if (!t) continue;
+    const std::string key = "nodes[" + std::to_string(i) + "]";
+    try {
+      node_tuning_info().validate(node_tuning_fields().settings_of(*t));
+    } catch (const config::SettingError& e) {
+      c.fail(key + "." + e.key(), e.what());
+    }
+    if (!t->channel.empty()) {
+      if (t->tx_hz > 0.0 || t->rx_hz > 0.0) {
+        c.fail(key + (t->tx_hz > 0.0 ? ".tx_hz" : ".rx_hz"),
+               "give a node's frequencies as channel or as tx_hz/rx_hz, not both");
+      }
+      const auto ref = parse_channel_ref(t->channel);
+      if (!ref)
+        c.fail(key + ".channel", "expected PLAN/N (e.g. wifi24/6), got '" + t->channel + "'");
+      std::vector<std::string> names;
+      for (const auto& plan : s.spectrum.plans) names.push_back(plan.first);
+      const auto plan = s.spectrum.plans.find(ref->plan);
+      if (plan == s.spectrum.plans.end()) {
+        c.fail(key + ".channel", "no plan '" + ref->plan + "' in spectrum.plans (known: " +
+                                     (names.empty() ? std::string("none") : join(names)) + ")");
+      }
+      if (ref->number > plan->second.channels) {
+        c.fail(key + ".channel", "plan '" + ref->plan + "' has channels 1.." +
+                                     std::to_string(plan->second.channels) + ", not " +
+                                     std::to_string(ref->number));
+      }
+    }
+    check_fits(c, key + ".bandwidth_hz", "a band", t->bandwidth_hz, fs);
+  }
+}
+
 }  // namespace
 
 void validate(const Scenario& s, const Context& c) {
@@ -279,6 +341,7 @@ void validate(const Scenario& s, const Context& c) {
     }
   }
   check_channel(c, s);
+  check_spectrum(s, c);
   c.check_name(s.channel.model, "channel.model", kChannelModels);
   c.check(s.channel.path_loss_exponent, "channel.path_loss_exponent", kNonNegative);
   c.check(s.channel.noise_variance, "channel.noise_variance", kNonNegative);

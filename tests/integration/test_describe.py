@@ -51,7 +51,7 @@ class DescribeTest(unittest.TestCase):
         self.assertRegex(r.stderr, r"no phy named 'lora' \(known: dsss, external, .*gmsk.*\)")
         r = cli("describe", "antenna")
         self.assertEqual(r.returncode, 2)
-        self.assertIn("unknown kind 'antenna' (known: position, mobility, phy, mac, channel, sample, radio)",
+        self.assertIn("unknown kind 'antenna' (known: position, mobility, phy, mac, channel, sample, radio, spectrum)",
                       r.stderr)
 
     def test_lists_every_registered_mac_and_the_readme_shows_their_tables(self):

@@ -29,7 +29,7 @@ class World {
   explicit World(const std::vector<std::optional<double>>& xs)
       : channel(xs.size(), channel::make_paper_budget(3.0)),
         counters(xs.size()),
-        ledger(LedgerConfig{kNoise, std::vector<double>(xs.size(), kSensitivityDb), kGrace},
+        ledger(LedgerConfig{kNoise, std::vector<double>(xs.size(), kSensitivityDb), kGrace, {}},
                counters, [n = xs.size()](NodeId id) -> std::optional<std::size_t> {
                  if (id >= 1 && id <= n) return static_cast<std::size_t>(id - 1);
                  return std::nullopt;

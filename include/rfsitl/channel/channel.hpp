@@ -23,6 +23,7 @@
 
 #include "rfsitl/channel/channel_matrix.hpp"
 #include "rfsitl/channel/link_budget.hpp"
+#include "rfsitl/channel/radio_tuning.hpp"
 #include "rfsitl/channel/sample_stage.hpp"
 #include "rfsitl/common/types.hpp"
 
@@ -34,6 +35,9 @@ struct ChannelConfig {
   std::uint64_t seed = 1;         ///< of the noise
   double sample_rate_hz = 1e6;
   std::size_t tick_samples = 250;
+  /// The centre of the sample grid: a radio tuned here needs no frequency
+  /// shift (every radio is, until tune()).
+  double carrier_hz = 2.4e9;
 };
 
 /// One transmitter on the air this tick: its node and its tick's samples
@@ -76,6 +80,20 @@ class Channel {
     std::vector<std::complex<double>> path_fading;
     std::vector<cf32> path_factor;
   };
+
+  /// Engine thread, between ticks: node `node`'s radio is now at `tuning`,
+  /// from the next on_air() on. Until the first call every radio shares one
+  /// band (config.carrier_hz, the whole sample rate) and the channel mixes
+  /// exactly as without this call; after it, each link is in band (shifted
+  /// by its offset), leaking (noise of the power its mask puts in the
+  /// receiver's band) or out of band (not heard), and the matrix's
+  /// band_gain() says how much of each link's power arrives.
+  void tune(std::size_t node, const RadioTuning& tuning);
+
+  /// What receiver `rx` makes of transmitter `tx` (in band when no radio was tuned).
+  LinkBand band(std::size_t tx, std::size_t rx) const {
+    return bands_.empty() ? LinkBand{} : bands_[rx * tunings_.size() + tx];
+  }
 
   /// Engine thread, once per tick, every tick, before hears_signal() and
   /// receive(): the transmitters on the air in the tick that starts at
@@ -125,6 +143,21 @@ class Channel {
   void mix_fading(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
   void mix_fading_dispersive(std::size_t m, std::size_t first, std::span<cf32> y, Scratch& s) const;
   bool tail_reaches(std::size_t n, std::size_t m, SampleTime from) const;
+  /// Whether n's signal is mixed into m's input (in band, or no radio tuned).
+  bool in_band(std::size_t n, std::size_t m) const {
+    return bands_.empty() || bands_[m * tunings_.size() + n].relation == BandRelation::kInBand;
+  }
+  /// Whether n reaches m at all (in band or leaking).
+  bool reaches(std::size_t n, std::size_t m) const {
+    return bands_.empty() || bands_[m * tunings_.size() + n].relation != BandRelation::kOutOfBand;
+  }
+  /// Tuned radios: each active transmitter off the grid's centre shifted to
+  /// its frequency (a copy), and each one's power this tick for its leakage.
+  std::span<const Transmission> shift_transmitters(SampleTime tick_start,
+                                                   std::span<const Transmission> active);
+  /// Tuned radios, after m's mix and before its noise: the mix brought from
+  /// the grid's centre to m's frequency, and the noise of what leaks into m's band.
+  void arrive_in_band(std::size_t m, std::size_t first, std::span<cf32> y) const;
   void keep_history(SampleTime tick_start, std::span<const Transmission> active);
 
   ChannelMatrix matrix_;
@@ -147,6 +180,18 @@ class Channel {
   std::vector<SampleTime> signal_end_;
   std::vector<std::size_t> audible_;
   std::vector<const cf32*> transmitting_;  // keep_history's, by node
+
+  // Tuned radios (tune()): each node's tuning, cycles per sample of its tx and
+  // rx frequencies from the grid's centre, every link's band (row-major by
+  // receiver, as the matrix), this tick's transmitters shifted to their
+  // frequencies, and each one's mean power this tick. All empty until tune().
+  std::vector<RadioTuning> tunings_;
+  std::vector<double> tx_cycles_;
+  std::vector<double> rx_cycles_;
+  std::vector<LinkBand> bands_;
+  std::vector<std::vector<cf32>> shifted_;
+  std::vector<Transmission> shifted_active_;
+  std::vector<float> tx_power_;
 
   // The transmitters' samples through the transmit stages (when there are any).
   std::vector<std::vector<cf32>> staged_;

@@ -46,8 +46,18 @@ class ChannelMatrix {
   /// Coefficient of the link from transmitter `tx` to receiver `rx`.
   cf32 coefficient(std::size_t tx, std::size_t rx) const { return coeff_[rx * n_ + tx]; }
 
-  /// Power gain |c|^2 of the link from `tx` to `rx`.
-  float power_gain(std::size_t tx, std::size_t rx) const { return std::norm(coefficient(tx, rx)); }
+  /// Power gain of the link from `tx` to `rx`: |c|^2 times band_gain(), what
+  /// reaches the receiver's band (the ledger's SNR, the link table).
+  float power_gain(std::size_t tx, std::size_t rx) const {
+    return std::norm(coefficient(tx, rx)) * band_gain(tx, rx);
+  }
+
+  /// The fraction of tx's power inside rx's band (radio_tuning.hpp's kappa):
+  /// 1 for every link until set_band_gain() (radios sharing one band).
+  float band_gain(std::size_t tx, std::size_t rx) const {
+    return band_gain_.empty() ? 1.0F : band_gain_[rx * n_ + tx];
+  }
+  void set_band_gain(std::size_t tx, std::size_t rx, float kappa);
 
   /// Row of coefficients seen by receiver `rx`, indexed by transmitter.
   std::span<const cf32> receiver_row(std::size_t rx) const { return {coeff_.data() + rx * n_, n_}; }
@@ -139,7 +149,8 @@ class ChannelMatrix {
   std::vector<std::optional<Orientation>> attitude_;
   std::vector<double> stamp_s_;  // when each position was set
   double clock_s_ = 0.0;
-  std::vector<cf32> coeff_;  // row-major by receiver: coeff_[rx * n + tx]
+  std::vector<cf32> coeff_;       // row-major by receiver: coeff_[rx * n + tx]
+  std::vector<float> band_gain_;  // as coeff_; empty: 1 everywhere
   double sample_rate_hz_;
   std::vector<LinkResponse> responses_;  // as coeff_; dispersive chains only
   std::uint32_t max_lag_ = 0;

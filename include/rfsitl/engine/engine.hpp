@@ -102,6 +102,13 @@ class Engine : public position::PositionSink {
   /// positions (position/source/velocity_estimator.hpp) on the engine's clock.
   virtual void set_position(std::size_t node, std::optional<Ecef> position) = 0;
 
+  /// Retunes node `node`'s radio to transmit on tx_hz and receive on rx_hz
+  /// (its bandwidth and duplex stay). Thread-safe; takes effect at the next
+  /// tick, from which on the channel treats its links by the new offsets
+  /// (channel/radio_tuning.hpp), and observers are told (on_retune: the pcap
+  /// trace's comment). Precondition: both in (0, 1e11] Hz.
+  virtual void retune(std::size_t node, double tx_hz, double rx_hz) = 0;
+
   /// A live source's report: the position (WGS84 or local, converted with the
   /// scenario's origin) as set_position(); velocity and attitude as motions()
   /// shows them. Thread-safe.

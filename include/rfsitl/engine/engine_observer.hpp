@@ -39,6 +39,11 @@ class EngineObserver {
     return false;
   }
 
+  /// Engine thread: the radio of the node with id `node` transmits on tx_hz
+  /// and receives on rx_hz from the tick starting at `time` on (Engine::retune).
+  virtual void on_retune(NodeId /*node*/, SampleTime /*time*/, double /*tx_hz*/, double /*rx_hz*/) {
+  }
+
   /// Worker thread of node `node` (several may call at once): a decode with a
   /// valid header in the tick starting at `time`; `event.symbols` is the
   /// constellation (valid during the call only).

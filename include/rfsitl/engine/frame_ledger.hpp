@@ -21,6 +21,9 @@ struct LedgerConfig {
   /// below_sensitivity when its SNR is under its transmitter's figure.
   std::vector<double> sensitivity_snr_db;
   SampleTime grace_samples = 0;  ///< receiver latency allowed after a frame ends
+  /// By node index: receives while it transmits (no half_duplex losses);
+  /// empty or shorter: half duplex.
+  std::vector<bool> full_duplex;
 };
 
 /// A frame's final outcome, for observers.

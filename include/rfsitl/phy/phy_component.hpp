@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "rfsitl/common/spectral_mask.hpp"
 #include "rfsitl/config/component_info.hpp"
 #include "rfsitl/phy/per_curve.hpp"
 #include "rfsitl/phy/transceiver.hpp"
@@ -35,6 +36,11 @@ struct PhyComponent {
   /// settings (validated); empty when the PHY declares none (another
   /// program's transceiver).
   std::function<PerCurve(const config::Settings&)> per_curve;
+  /// The transmitter's spectral mask with these settings (validated), its
+  /// offsets in units of the sample rate: what leaks into a neighbouring
+  /// channel (channel/radio_tuning.hpp). Empty: flat over the node's channel
+  /// bandwidth and nothing beyond it.
+  std::function<SpectralMask(const config::Settings&)> spectral_mask;
 };
 
 }  // namespace rfsitl::phy

@@ -14,6 +14,7 @@
 #include "rfsitl/common/types.hpp"
 #include "rfsitl/config/settings.hpp"
 #include "rfsitl/phy/phy_component.hpp"
+#include "rfsitl/scenario/spectrum.hpp"
 
 namespace rfsitl::scenario {
 
@@ -105,6 +106,8 @@ struct NodeConfig {
   /// With IP: an existing network namespace (a container's) the node's TAP
   /// interface goes into, instead of one rfsitl makes and removes.
   std::optional<std::string> netns;
+  /// Its frequencies and duplex (spectrum.hpp); nullopt: the shared band.
+  std::optional<NodeTuning> tuning;
 
   /// Node `id` at `start` with everything else from the scenario (tests and
   /// benchmarks build nodes this way, so a new member does not break them).
@@ -227,6 +230,8 @@ struct Scenario {
   std::vector<TrafficItem> traffic;
   /// The live source of every node without its own `source` or `mobility`.
   PositionSourceChoice position_source;
+  /// Named channel plans the nodes' `channel:` keys pick from.
+  SpectrumConfig spectrum;
 
   const PhyChoice& phy_of(std::size_t node) const {
     return nodes[node].phy ? *nodes[node].phy : phy;
@@ -240,6 +245,22 @@ struct Scenario {
   }
   /// True when node `node`'s transceiver is another process.
   bool runs_externally(std::size_t node) const { return phy_of(node).runs_externally(); }
+  /// The carrier of a node without a tuning of its own: radio.carrier_hz.
+  double carrier_hz() const {
+    return radio ? radio->carrier_hz : channel::RadioSettings{}.carrier_hz;
+  }
+  /// Node `node`'s frequencies, bandwidth and duplex.
+  NodeBand band_of(std::size_t node) const {
+    return scenario::band_of(nodes[node].tuning, spectrum, carrier_hz(), timing.sample_rate_hz);
+  }
+  /// True when some node has a tuning of its own: the channel then works out
+  /// each link's offset and leakage; otherwise every node shares one band.
+  bool tuned() const {
+    for (const NodeConfig& n : nodes) {
+      if (n.tuning) return true;
+    }
+    return false;
+  }
   /// True when radio frames carry their kind (FrameKind) on the air: with IP
   /// or a MAC.
   bool typed_framing() const { return ip.enabled || mac.type != "none"; }

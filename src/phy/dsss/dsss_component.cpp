@@ -1,4 +1,7 @@
 // Registration of the direct-sequence spread-spectrum transceiver as PHY "dsss".
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "code_adaptation.hpp"
@@ -46,6 +49,24 @@ const config::Fields<DsssSettings>& fields() {
   return f;
 }
 
+// Rectangular chips of samples_per_chip samples: a density of sinc^2(f Tc),
+// nulls at multiples of the chip rate fs / samples_per_chip, sampled in dB
+// (floored at -60 dBr, the nulls) up to half the sample rate, the most a
+// sampled signal shows.
+SpectralMask chip_mask(unsigned samples_per_chip) {
+  constexpr int kSteps = 200;
+  constexpr double kFloorDbr = -60.0;
+  SpectralMask mask;
+  for (int i = 0; i <= kSteps; ++i) {
+    const double offset = 0.5 * i / kSteps;  // in sample rates
+    const double x = std::numbers::pi * offset * samples_per_chip;
+    const double sinc = i == 0 ? 1.0 : std::sin(x) / x;
+    const double dbr = 10.0 * std::log10(std::max(sinc * sinc, std::pow(10.0, kFloorDbr / 10)));
+    mask.points.push_back({offset, dbr});
+  }
+  return mask;
+}
+
 }  // namespace
 
 PhyComponent dsss_component() {
@@ -72,7 +93,8 @@ PhyComponent dsss_component() {
                 (dqpsk ? 2.0 : 1.0);
             return exponential_binary_per(dqpsk ? 0.773 : 1.0, samples_per_bit,
                                           dsss::kHeaderBytes + dsss::kCrc32Bytes);
-          }};
+          },
+          [](const config::Settings& s) { return chip_mask(fields().build(s).samples_per_chip); }};
 }
 
 }  // namespace rfsitl::phy

@@ -15,7 +15,8 @@ PhyComponent external_program_component() {
           TransceiverKind::kExternalProgram,
           {},
           [](const config::Settings&) { return std::string("external program"); },
-          {}};  // no PER curve: rfsitl does not know the program's receiver
+          {},   // no PER curve: rfsitl does not know the program's receiver
+          {}};  // nor its spectrum: flat over the node's channel
 }
 
 }  // namespace rfsitl::phy

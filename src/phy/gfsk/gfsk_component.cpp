@@ -66,7 +66,8 @@ PhyComponent gfsk_component() {
             const double beta = g.receiver == GfskReceiver::kEnergy ? 0.5 : 0.264;
             return exponential_binary_per(beta, g.samples_per_symbol,
                                           gfsk::kHeaderBytes + gfsk::kPayloadCrcBytes);
-          }};
+          },
+          {}};  // no declared mask: flat over the node's channel (radio_tuning.hpp)
 }
 
 }  // namespace rfsitl::phy

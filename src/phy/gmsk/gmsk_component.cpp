@@ -39,7 +39,8 @@ PhyComponent gmsk_component() {
             constexpr double kAlpha = 0.985;
             return coherent_binary_per(kAlpha, fields().build(s).samples_per_symbol,
                                        gmsk::kHeaderBytes + gmsk::kPayloadCrcBytes);
-          }};
+          },
+          {}};  // no declared mask: flat over the node's channel (radio_tuning.hpp)
 }
 
 }  // namespace rfsitl::phy

@@ -36,7 +36,8 @@ PhyComponent gmsk_liquid_component() {
             constexpr std::size_t kOverheadBytes = 8 + 4;
             return coherent_binary_per(kAlpha, fields().build(s).samples_per_symbol,
                                        kOverheadBytes);
-          }};
+          },
+          {}};  // no declared mask: flat over the node's channel (radio_tuning.hpp)
 }
 
 }  // namespace rfsitl::phy

@@ -1,4 +1,4 @@
-#include "rfsitl/registry/all_components.hpp"
+#include "rfsitl/scenario/all_components.hpp"
 
 #include "rfsitl/channel/radio.hpp"
 #include "rfsitl/config/settings_json.hpp"
@@ -8,8 +8,9 @@
 #include "rfsitl/registry/phy_registry.hpp"
 #include "rfsitl/registry/position_source_registry.hpp"
 #include "rfsitl/registry/sample_stage_registry.hpp"
+#include "rfsitl/scenario/spectrum.hpp"
 
-namespace rfsitl::registry {
+namespace rfsitl::scenario {
 
 std::vector<const config::ComponentInfo*> all_components() {
   std::vector<const config::ComponentInfo*> out;
@@ -24,6 +25,9 @@ std::vector<const config::ComponentInfo*> all_components() {
   for (const channel::SampleStageComponent& s : channel::sample_stage_components())
     out.push_back(&s.info);
   out.push_back(&channel::radio_info());
+  out.push_back(&spectrum_info());
+  out.push_back(&channel_plan_info());
+  out.push_back(&node_tuning_info());
   return out;
 }
 
@@ -35,4 +39,4 @@ nlohmann::json all_components_json(std::string_view kind) {
   return all;
 }
 
-}  // namespace rfsitl::registry
+}  // namespace rfsitl::scenario

@@ -1,6 +1,7 @@
 #pragma once
-/// Every registered component of every kind, as `rfsitl describe`, the manual
-/// pages and the Python module list them.
+/// Every registered component of every kind and the scenario's own sections
+/// that declare settings (the radio, the spectrum), as `rfsitl describe`, the
+/// manual pages and the Python module list them.
 #include <string_view>
 #include <vector>
 
@@ -8,11 +9,12 @@
 
 #include "rfsitl/config/component_info.hpp"
 
-namespace rfsitl::registry {
+namespace rfsitl::scenario {
 
 /// Grouped by kind in data-path order: where nodes are (live sources,
 /// mobility models), the transceivers, their MACs, the channel's stages (on
-/// links, then on samples), and the radio whose link budget they complete.
+/// links, then on samples), the radio whose link budget they complete, and
+/// the spectrum's sections (spectrum, a channel plan, a node's tuning).
 /// Plugins loaded so far included. Pointers stay valid (registry.hpp).
 std::vector<const config::ComponentInfo*> all_components();
 
@@ -20,4 +22,4 @@ std::vector<const config::ComponentInfo*> all_components();
 /// `rfsitl describe --json` and rfsitl.components() in Python.
 nlohmann::json all_components_json(std::string_view kind = {});
 
-}  // namespace rfsitl::registry
+}  // namespace rfsitl::scenario
