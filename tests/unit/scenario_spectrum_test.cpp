@@ -73,8 +73,8 @@ TEST(ScenarioSpectrum, MistakesNameFileLineAndKey) {
        "t.yaml:8: nodes[0].tx_hz: give a node's frequencies as channel or as tx_hz/rx_hz, not "
        "both"},
       {"{id: 1, tx_hz: 2.4e9,\n     bandwidth_hz: 40e6}",
-       "t.yaml:9: nodes[0].bandwidth_hz: a band of 40000000 Hz is wider than the emulator's "
-       "sample rate (20000000 Hz, time.sample_rate_hz)"},
+       "t.yaml:9: nodes[0].bandwidth_hz: a band of 4e+07 Hz is wider than the emulator's "
+       "sample rate (2e+07 Hz, time.sample_rate_hz)"},
       {"{id: 1, duplex: both}", "t.yaml:8: nodes[0].duplex: unknown 'both' (known: half, full)"},
   };
   for (const Case& c : cases) {
@@ -87,8 +87,8 @@ TEST(ScenarioSpectrum, MistakesNameFileLineAndKey) {
             std::string::npos);
   EXPECT_EQ(parse_error_of("time: {sample_rate_hz: 1e6}\nspectrum:\n  plans:\n"
                            "    wifi24: {bandwidth_hz: 20e6}\nnodes: [{id: 1}]\n"),
-            "t.yaml:4: spectrum.plans.wifi24.bandwidth_hz: a channel of 20000000 Hz is wider "
-            "than the emulator's sample rate (1000000 Hz, time.sample_rate_hz)");
+            "t.yaml:4: spectrum.plans.wifi24.bandwidth_hz: a channel of 2e+07 Hz is wider "
+            "than the emulator's sample rate (1e+06 Hz, time.sample_rate_hz)");
   EXPECT_NE(parse_error_of("spectrum: {plans: [1, 2]}\nnodes: [{id: 1}]\n")
                 .find("t.yaml:1: spectrum.plans: expected a mapping"),
             std::string::npos);
