@@ -73,7 +73,7 @@ emulator, sending and receiving its samples through the emulated channel.")
   list(APPEND CPACK_COMPONENTS_ALL soapy)
 endif()
 
-if(TARGET rfsitl_python)
+if(TARGET rfsitl_pymodule)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-rfsitl)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
   # The interpreter and NumPy, which no shared library of theirs names;
@@ -111,7 +111,7 @@ if(RFSITL_BUILD_GR)
   set(RFSITL_GR_PACKAGE gr-rfsitl)
 endif()
 set(RFSITL_PYTHON_PACKAGE "")
-if(TARGET rfsitl_python)
+if(TARGET rfsitl_pymodule)
   set(RFSITL_PYTHON_PACKAGE python3-rfsitl)
 endif()
 foreach(component_package program:rfsitl dev:librfsitl-dev soapy:${RFSITL_SOAPY_PACKAGE}

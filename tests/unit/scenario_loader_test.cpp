@@ -343,7 +343,7 @@ TEST(ParseScenario, UnknownKeyIsNamedWithTheAllowedOnes) {
                        "t.yaml:2: node: unknown key (allowed at top level: name, seed,"));
   EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    pos: {x: 0, y: 0}\n"),
                        "t.yaml:3: nodes[0].pos: unknown key (allowed in nodes[0]: id, position, "
-                       "mobility, phy, netns)"));
+                       "mobility, phy, netns, channel, tx_hz, rx_hz, bandwidth_hz, duplex)"));
   EXPECT_TRUE(contains(error_of("nodes:\n  - id: 1\n    position: {lat: 1, lon: 2, altitude: 3}\n"),
                        "t.yaml:3: nodes[0].position.altitude: unknown key"));
 }
