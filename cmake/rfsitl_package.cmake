@@ -78,8 +78,12 @@ if(TARGET rfsitl_pymodule)
   set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
   # The interpreter and NumPy, which no shared library of theirs names;
   # pandas is optional (tables are dicts of arrays without it).
-  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS "rfsitl (= ${PROJECT_VERSION}), python3, python3-numpy")
-  set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-pandas, python3-matplotlib")
+  # Its one library beyond the C++ runtime is librfsitl, in the rfsitl package,
+  # which dpkg-shlibdeps cannot see from this one: the dependencies are named.
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SHLIBDEPS OFF)
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
+    "rfsitl (= ${PROJECT_VERSION}), ${RFSITL_PYTHON_DEPENDS}, python3-numpy, python3-yaml, libc6, libstdc++6, libgcc-s1")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-pandas, python3-matplotlib, python3-scipy")
   set(CPACK_COMPONENT_PYTHON_DESCRIPTION "rfsitl from Python (module)
 The Python module rfsitl: scenarios from files or dicts, runs in virtual time
 advanced step by step (move nodes, send frames, read counters, links and I/Q
