@@ -207,8 +207,7 @@ class Emulator:
         return self.finish()
 
     def _advance(self, until: float) -> float:
-        reached = self._run.advance(until)
-        return reached
+        return self._run.advance(until)
 
     # ---- acting between steps ----
 

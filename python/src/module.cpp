@@ -16,8 +16,8 @@
 #include "rfsitl/common/geodesy.hpp"
 #include "rfsitl/engine/frame_event.hpp"
 #include "rfsitl/engine/node_counter_fields.hpp"
-#include "rfsitl/scenario/all_components.hpp"
 #include "rfsitl/registry/plugin_loader.hpp"
+#include "rfsitl/scenario/all_components.hpp"
 #include "rfsitl/scenario/scenario_loader.hpp"
 #include "virtual_run.hpp"
 
@@ -26,9 +26,13 @@ using namespace rfsitl;
 
 namespace {
 
-template <typename T>
-py::array_t<T> column(std::size_t n) {
-  return py::array_t<T>(static_cast<py::ssize_t>(n));
+/// One column of a table: `value(row)` for every row, in a new array.
+template <typename T, typename Rows, typename Value>
+py::array_t<T> column(const Rows& rows, Value value) {
+  py::array_t<T> out(static_cast<py::ssize_t>(rows.size()));
+  T* p = out.mutable_data();
+  for (const auto& row : rows) *p++ = static_cast<T>(value(row));
+  return out;
 }
 
 double or_nan(const std::optional<double>& v) {
@@ -70,70 +74,43 @@ py::tuple counters_table(python::VirtualRun& run) {
 }
 
 py::dict links_table(const python::VirtualRun& run, std::size_t payload_bytes) {
-  const std::vector<monitor::LinkRow> rows = run.links(payload_bytes);
-  const std::size_t n = rows.size();
-  auto tx = column<std::uint8_t>(n), rx = column<std::uint8_t>(n);
-  auto dist = column<double>(n), gain = column<double>(n), snr = column<double>(n),
-       per = column<double>(n);
-  auto ptx = tx.mutable_data(), prx = rx.mutable_data();
-  auto pd = dist.mutable_data(), pg = gain.mutable_data(), ps = snr.mutable_data(),
-       pp = per.mutable_data();
-  for (std::size_t i = 0; i < n; ++i) {
-    ptx[i] = rows[i].tx;
-    prx[i] = rows[i].rx;
-    pd[i] = or_nan(rows[i].distance_m);
-    pg[i] = or_nan(rows[i].gain_db);
-    ps[i] = or_nan(rows[i].snr_db);
-    pp[i] = or_nan(rows[i].per);
-  }
+  using monitor::LinkRow;
+  const std::vector<LinkRow> rows = run.links(payload_bytes);
   py::dict d;
-  d["tx"] = tx;
-  d["rx"] = rx;
-  d["distance_m"] = dist;
-  d["gain_db"] = gain;
-  d["snr_db"] = snr;
-  d["per"] = per;
+  d["tx"] = column<std::uint8_t>(rows, [](const LinkRow& r) { return r.tx; });
+  d["rx"] = column<std::uint8_t>(rows, [](const LinkRow& r) { return r.rx; });
+  d["distance_m"] = column<double>(rows, [](const LinkRow& r) { return or_nan(r.distance_m); });
+  d["gain_db"] = column<double>(rows, [](const LinkRow& r) { return or_nan(r.gain_db); });
+  d["snr_db"] = column<double>(rows, [](const LinkRow& r) { return or_nan(r.snr_db); });
+  d["per"] = column<double>(rows, [](const LinkRow& r) { return or_nan(r.per); });
   return d;
 }
 
 // Events as columns; `kind` and `reason` as codes (the names: event_kinds(),
 // loss_reasons()); payloads as a list of bytes.
 py::dict events_table(python::VirtualRun& run) {
-  const std::vector<engine::FrameEvent> ev = run.take_events();
-  const std::size_t n = ev.size();
+  using engine::FrameEvent;
+  const std::vector<FrameEvent> ev = run.take_events();
   const double fs = run.scenario().timing.sample_rate_hz;
-  auto time = column<double>(n), snr = column<double>(n);
-  auto kind = column<std::uint8_t>(n), node = column<std::uint8_t>(n),
-       src = column<std::uint8_t>(n), dst = column<std::uint8_t>(n);
-  auto reason = column<std::int8_t>(n);
-  auto serial = column<std::uint32_t>(n), length = column<std::uint32_t>(n);
-  auto retry = column<bool>(n);
-  py::list payloads(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const engine::FrameEvent& e = ev[i];
-    time.mutable_data()[i] = static_cast<double>(e.time) / fs;
-    snr.mutable_data()[i] = or_nan(e.snr_db);
-    kind.mutable_data()[i] = static_cast<std::uint8_t>(e.kind);
-    node.mutable_data()[i] = e.node;
-    src.mutable_data()[i] = e.src;
-    dst.mutable_data()[i] = e.dst;
-    reason.mutable_data()[i] = e.reason ? static_cast<std::int8_t>(*e.reason) : std::int8_t{-1};
-    serial.mutable_data()[i] = e.serial;
-    length.mutable_data()[i] = e.length_samples;
-    retry.mutable_data()[i] = e.retry;
-    payloads[i] = py::bytes(reinterpret_cast<const char*>(e.payload.data()), e.payload.size());
-  }
   py::dict d;
-  d["time_s"] = time;
-  d["kind"] = kind;
-  d["node"] = node;
-  d["src"] = src;
-  d["dst"] = dst;
-  d["serial"] = serial;
-  d["length_samples"] = length;
-  d["snr_db"] = snr;
-  d["reason"] = reason;
-  d["retry"] = retry;
+  d["time_s"] =
+      column<double>(ev, [fs](const FrameEvent& e) { return static_cast<double>(e.time) / fs; });
+  d["kind"] = column<std::uint8_t>(ev, [](const FrameEvent& e) { return e.kind; });
+  d["node"] = column<std::uint8_t>(ev, [](const FrameEvent& e) { return e.node; });
+  d["src"] = column<std::uint8_t>(ev, [](const FrameEvent& e) { return e.src; });
+  d["dst"] = column<std::uint8_t>(ev, [](const FrameEvent& e) { return e.dst; });
+  d["serial"] = column<std::uint32_t>(ev, [](const FrameEvent& e) { return e.serial; });
+  d["length_samples"] =
+      column<std::uint32_t>(ev, [](const FrameEvent& e) { return e.length_samples; });
+  d["snr_db"] = column<double>(ev, [](const FrameEvent& e) { return or_nan(e.snr_db); });
+  d["reason"] = column<std::int8_t>(
+      ev, [](const FrameEvent& e) { return e.reason ? static_cast<int>(*e.reason) : -1; });
+  d["retry"] = column<bool>(ev, [](const FrameEvent& e) { return e.retry; });
+  py::list payloads(ev.size());
+  for (std::size_t i = 0; i < ev.size(); ++i) {
+    payloads[i] =
+        py::bytes(reinterpret_cast<const char*>(ev[i].payload.data()), ev[i].payload.size());
+  }
   d["payload"] = payloads;
   return d;
 }

@@ -5,6 +5,7 @@ file, and plot_metric's lines are that table's means over the seeds."""
 import csv
 import os
 import subprocess
+import sys
 import tempfile
 import unittest
 from collections import defaultdict
@@ -19,16 +20,9 @@ from rfsitl.plotting import mean_ci95, plot_metric  # noqa: E402
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.environ.get("RFSITL_SOURCE_DIR", os.path.join(HERE, "..", ".."))
 BIN = os.environ.get("RFSITL_BIN")
-SCENARIO = os.path.join(SOURCE, "scenarios", "six_uav_batch.yaml")
-# Two noise levels: at -60 dB the longest links are below GMSK's sensitivity.
-CAMPAIGN = f"""scenario: {SCENARIO}
-settings:
-  time.duration_s: 2
-parameters:
-  channel.noise_power_db: [-80, -60]
-seeds: 3
-"""
-ROWS = 2 * 3
+# The campaign of the CLI's own test (tests/integration/test_sweep.py).
+sys.path.insert(0, os.path.join(SOURCE, "tests", "integration"))
+from test_sweep import CAMPAIGN, ROWS, SCENARIO  # noqa: E402
 
 
 def table_rows(path):
@@ -43,7 +37,7 @@ class CampaignTest(unittest.TestCase):
         cls.tmp = tempfile.TemporaryDirectory(prefix="rfsitl-campaign-")
         campaign = os.path.join(cls.tmp.name, "noise.yaml")
         with open(campaign, "w") as f:
-            f.write(CAMPAIGN)
+            f.write(CAMPAIGN.format(timeout=300))
         r = subprocess.run([BIN, "sweep", campaign, "--jobs", "2"], capture_output=True,
                            text=True, timeout=600)
         if r.returncode != 0:
